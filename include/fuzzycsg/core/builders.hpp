@@ -1,0 +1,34 @@
+#pragma once
+// Programmatic construction of trees: the full binary trees of Liu et al. (App. A) used by
+// inverse CSG, benchmarks and tests.
+
+#include <cstdint>
+#include <optional>
+
+#include "fuzzycsg/core/tree.hpp"
+
+namespace fuzzycsg {
+
+enum class OperatorMode {
+  kUnified,  // unified operators B_c with logits, c = softmax(sin(omega * logits) * t)
+  kProduct,  // fixed booleans (union, intersection, difference), random, product logic
+  kGodel,    // fixed booleans, random, Gödel logic (min/max)
+};
+
+struct FullTreeOptions {
+  int dim = 3;
+  int leaves = 64;  // a power of two
+  PrimitiveType family = PrimitiveType::kQuadric3;
+  OperatorMode ops = OperatorMode::kUnified;
+  double init_range = 0.5;  // every free number drawn from U[-init_range, init_range] ...
+  std::uint64_t seed = 0;
+  double temperature = 1000.0;
+  double omega = 10.0;
+  std::optional<double> sharpness;  // ... except sharpness (default: the family's default)
+};
+
+// Leaves in left-to-right order, inner nodes in post-order; parameters named by node path.
+// Families with range constraints (radii, sizes) get |U| + 0.05 so the tree is valid.
+Tree make_full_binary_tree(const FullTreeOptions& options);
+
+}  // namespace fuzzycsg
