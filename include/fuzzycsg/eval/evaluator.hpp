@@ -59,10 +59,9 @@ class Evaluator {
   std::unique_ptr<Impl> impl_;
 };
 
-// Double-precision scalar evaluation of the tree, straight from the IR by recursion: slow,
-// simple, and the reference the kernel is tested against. grad (optional) receives
-// d occupancy / d params at that point.
-double reference_occupancy(const Tree& tree, std::span<const double> params, const double* point,
-                           std::span<double> grad = {});
+// Double-precision scalar evaluation of the tree at one point, straight from the IR by
+// recursion: slow, simple, and the reference the kernel is tested against (its gradients
+// against central differences of this function).
+double reference_occupancy(const Tree& tree, std::span<const double> params, const double* point);
 
 }  // namespace fuzzycsg

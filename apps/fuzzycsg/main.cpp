@@ -1,0 +1,52 @@
+// fuzzycsg: turn shapes into compact CSG trees and model with fuzzy booleans.
+//
+// Exit status: 0 success, 2 bad input (one line on stderr naming the file, the place and the
+// field), 1 internal error.
+
+#include <fmt/core.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <new>
+#include <vector>
+
+#include "commands.hpp"
+#include "fuzzycsg/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fuzzycsg: CSG trees with fuzzy booleans", "fuzzycsg"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "fuzzycsg 0.1.0");
+  const std::vector<fuzzycsg::app::Verb> verbs{fuzzycsg::app::register_eval(app),
+                                                fuzzycsg::app::register_info(app),
+                                                fuzzycsg::app::register_demo(app)};
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "fuzzycsg: error: {}\n", e.what());
+    return 2;
+  }
+
+  try {
+    for (const auto& verb : verbs) {
+      if (verb.command->parsed()) return verb.run();
+    }
+  } catch (const fuzzycsg::InputError& e) {
+    fmt::print(stderr, "fuzzycsg: error: {}\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "fuzzycsg: error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "fuzzycsg: internal error: {}\n", e.what());
+    return 1;
+  }
+  return 1;
+}

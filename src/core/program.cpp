@@ -1,0 +1,297 @@
+#include "fuzzycsg/core/program.hpp"
+
+#include <algorithm>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/placement.hpp"
+
+namespace fuzzycsg {
+
+namespace {
+
+bool is_product_standard(const Node& n) {
+  return n.logic.family == logic::Family::kProduct &&
+         (n.op != OpKind::kDifference || n.complement.kind == logic::Complement::kStandard);
+}
+
+double value_or(std::span<const double> params, const std::optional<ParamRef>& r, double dflt) {
+  return r ? params[r->index] : dflt;
+}
+
+void add_grad(const Tree& tree, std::span<double> grad, ParamRef r, double g) {
+  if (!tree.params[r].fixed) grad[r.index] += g;
+}
+
+void add_grad(const Tree& tree, std::span<double> grad, const std::optional<ParamRef>& r,
+              double g) {
+  if (r) add_grad(tree, grad, *r, g);
+}
+
+}  // namespace
+
+Program Program::compile(const Tree& tree) {
+  Program prog;
+  prog.tree_ = tree;
+  const int dim = tree.dim;
+  std::uint32_t next_const = 0;
+  int leaves = 0;
+
+  auto emit_leaf = [&](int node_index) {
+    const Node& node = tree.node(node_index);
+    Instruction ins;
+    ins.node = node_index;
+    ins.num_theta = static_cast<int>(node.intrinsic.size());
+    ins.step = node.step.kind;
+    ins.step_n = node.step.n;
+    ins.consts = next_const;
+    if (node.shape.type == PrimitiveType::kQuadric3 && node.placement.empty() &&
+        node.step.kind == StepKind::kSigmoid) {
+      ins.code = OpCode::kLeafQuadric3;
+      ins.num_consts = 11;
+      prog.has_quadric3_ = true;
+    } else {
+      ins.code = OpCode::kLeaf;
+      std::uint32_t k = static_cast<std::uint32_t>(ins.num_theta);
+      ins.has_rotate = !node.placement.rotate.empty();
+      ins.has_translate = !node.placement.translate.empty();
+      ins.has_scale = node.placement.scale.has_value();
+      ins.rotate_at = k;
+      if (ins.has_rotate) k += static_cast<std::uint32_t>(dim * dim);
+      ins.translate_at = k;
+      if (ins.has_translate) k += static_cast<std::uint32_t>(dim);
+      ins.scale_at = k;
+      if (ins.has_scale) k += 1;
+      ins.step_at = k;
+      if (node.step.kind != StepKind::kCrisp) k += 1;
+      ins.num_consts = k;
+    }
+    next_const += ins.num_consts;
+    ++leaves;
+    prog.tape_.push_back(ins);
+    return static_cast<int>(prog.tape_.size()) - 1;
+  };
+
+  auto emit_op = [&](int node_index, int left, int right) {
+    const Node& node = tree.node(node_index);
+    Instruction ins;
+    ins.node = node_index;
+    ins.left = left;
+    ins.right = right;
+    ins.consts = next_const;
+    if (node.op == OpKind::kComplement) {
+      ins.code = OpCode::kComplement;
+      ins.complement = node.complement.kind;
+      ins.num_consts = 1;
+    } else if (node.op == OpKind::kUnified) {
+      ins.code = OpCode::kBilinear;
+      ins.bilinear = node.unified_logits ? BilinearSource::kLogits : BilinearSource::kBarycentric;
+      ins.num_consts = 3;
+    } else if (is_product_standard(node)) {
+      ins.code = OpCode::kBilinear;
+      ins.bilinear = BilinearSource::kConstant;
+      ins.logic_op = node.op == OpKind::kUnion          ? LogicOp::kUnion
+                     : node.op == OpKind::kIntersection ? LogicOp::kIntersection
+                                                        : LogicOp::kDifference;
+      ins.num_consts = 3;
+    } else {
+      ins.code = OpCode::kLogic;
+      ins.logic_op = node.op == OpKind::kUnion          ? LogicOp::kUnion
+                     : node.op == OpKind::kIntersection ? LogicOp::kIntersection
+                                                        : LogicOp::kDifference;
+      ins.family = node.logic.family;
+      ins.n = node.logic.n;
+      ins.complement = node.complement.kind;
+      ins.num_consts = 2;
+    }
+    next_const += ins.num_consts;
+    prog.tape_.push_back(ins);
+    return static_cast<int>(prog.tape_.size()) - 1;
+  };
+
+  // Iterative post-order walk (trees can be deeper than the call stack allows).
+  struct Frame {
+    int node;
+    std::size_t next_child = 0;
+    int acc = -1;  // slot of the left fold so far
+  };
+  std::vector<Frame> stack;
+  stack.push_back({tree.root});
+  int result = -1;
+  while (!stack.empty()) {
+    Frame& f = stack.back();
+    const Node& node = tree.node(f.node);
+    int done_slot = -1;
+    if (node.kind == NodeKind::kPrimitive) {
+      done_slot = emit_leaf(f.node);
+    } else if (f.next_child < node.children.size()) {
+      const int child = node.children[f.next_child++];
+      stack.push_back({child});
+      continue;
+    } else {
+      done_slot = node.op == OpKind::kComplement ? emit_op(f.node, f.acc, -1) : f.acc;
+    }
+    stack.pop_back();
+    if (stack.empty()) {
+      result = done_slot;
+      break;
+    }
+    Frame& parent = stack.back();
+    const Node& pnode = tree.node(parent.node);
+    if (parent.acc < 0 || pnode.op == OpKind::kComplement) {
+      parent.acc = done_slot;
+    } else {
+      parent.acc = emit_op(parent.node, parent.acc, done_slot);
+    }
+  }
+  FUZZYCSG_ASSERT(result == static_cast<int>(prog.tape_.size()) - 1);
+  (void)result;
+  prog.num_consts_ = next_const;
+  prog.num_leaves_ = leaves;
+
+  // Adjoint stack depth of the reverse sweep: each instruction pops one block and pushes one
+  // per input.
+  int depth = 1, max_depth = 1;
+  for (auto it = prog.tape_.rbegin(); it != prog.tape_.rend(); ++it) {
+    depth -= 1;
+    depth += (it->left >= 0) + (it->right >= 0);
+    max_depth = std::max(max_depth, depth);
+  }
+  prog.max_stack_ = max_depth;
+  return prog;
+}
+
+void Program::prepare(std::span<const double> params, std::span<double> consts) const {
+  FUZZYCSG_ASSERT(params.size() == num_params() && consts.size() == num_consts_);
+  const int dim = tree_.dim;
+  for (const Instruction& ins : tape_) {
+    const Node& node = tree_.node(ins.node);
+    double* c = consts.data() + ins.consts;
+    switch (ins.code) {
+      case OpCode::kLeafQuadric3:
+        for (int i = 0; i < 10; ++i) c[i] = params[node.intrinsic[i].index];
+        c[10] = params[node.step.param->index];
+        break;
+      case OpCode::kLeaf: {
+        for (int i = 0; i < ins.num_theta; ++i) c[i] = params[node.intrinsic[i].index];
+        const auto& pl = node.placement;
+        if (ins.has_rotate) {
+          if (dim == 3) {
+            const auto r = placement::rotation_3d(params[pl.rotate[0].index],
+                                                  params[pl.rotate[1].index],
+                                                  params[pl.rotate[2].index]);
+            std::copy(r.begin(), r.end(), c + ins.rotate_at);
+          } else {
+            const auto r = placement::rotation_2d(params[pl.rotate[0].index]);
+            std::copy(r.begin(), r.end(), c + ins.rotate_at);
+          }
+        }
+        if (ins.has_translate) {
+          for (int i = 0; i < dim; ++i) c[ins.translate_at + i] = params[pl.translate[i].index];
+        }
+        if (ins.has_scale) c[ins.scale_at] = params[pl.scale->index];
+        if (ins.step != StepKind::kCrisp) c[ins.step_at] = params[node.step.param->index];
+        break;
+      }
+      case OpCode::kBilinear: {
+        std::array<double, 4> w{};
+        switch (ins.bilinear) {
+          case BilinearSource::kConstant:
+            w = ins.logic_op == LogicOp::kIntersection ? std::array<double, 4>{1, 0, 0, 0}
+                : ins.logic_op == LogicOp::kUnion      ? std::array<double, 4>{0, 1, 0, 0}
+                                                       : std::array<double, 4>{0, 0, 1, 0};
+            break;
+          case BilinearSource::kBarycentric:
+            for (int i = 0; i < 4; ++i) w[i] = params[node.unified[i].index];
+            break;
+          case BilinearSource::kLogits: {
+            std::array<double, 4> l{};
+            for (int i = 0; i < 4; ++i) l[i] = params[node.unified[i].index];
+            w = logic::unified_weights(l, value_or(params, node.temperature, 1000.0),
+                                       value_or(params, node.omega, 10.0));
+            break;
+          }
+        }
+        c[0] = w[1] + w[2];
+        c[1] = w[1] + w[3];
+        c[2] = w[0] - w[1] - w[2] - w[3];
+        break;
+      }
+      case OpCode::kLogic:
+        c[0] = value_or(params, node.logic.p, 0.0);
+        c[1] = value_or(params, node.complement.lambda, 0.0);
+        break;
+      case OpCode::kComplement:
+        c[0] = value_or(params, node.complement.lambda, 0.0);
+        break;
+    }
+  }
+}
+
+void Program::pullback(std::span<const double> params, std::span<const double> grad_consts,
+                       std::span<double> grad) const {
+  FUZZYCSG_ASSERT(params.size() == num_params() && grad.size() == num_params());
+  const int dim = tree_.dim;
+  for (const Instruction& ins : tape_) {
+    const Node& node = tree_.node(ins.node);
+    const double* g = grad_consts.data() + ins.consts;
+    switch (ins.code) {
+      case OpCode::kLeafQuadric3:
+        for (int i = 0; i < 10; ++i) add_grad(tree_, grad, node.intrinsic[i], g[i]);
+        add_grad(tree_, grad, node.step.param, g[10]);
+        break;
+      case OpCode::kLeaf: {
+        for (int i = 0; i < ins.num_theta; ++i) add_grad(tree_, grad, node.intrinsic[i], g[i]);
+        const auto& pl = node.placement;
+        if (ins.has_rotate) {
+          if (dim == 3) {
+            std::array<double, 9> gr{};
+            std::copy(g + ins.rotate_at, g + ins.rotate_at + 9, gr.begin());
+            const auto ga = placement::rotation_3d_vjp(params[pl.rotate[0].index],
+                                                       params[pl.rotate[1].index],
+                                                       params[pl.rotate[2].index], gr);
+            for (int i = 0; i < 3; ++i) add_grad(tree_, grad, pl.rotate[i], ga[i]);
+          } else {
+            std::array<double, 4> gr{};
+            std::copy(g + ins.rotate_at, g + ins.rotate_at + 4, gr.begin());
+            add_grad(tree_, grad, pl.rotate[0],
+                     placement::rotation_2d_vjp(params[pl.rotate[0].index], gr));
+          }
+        }
+        if (ins.has_translate) {
+          for (int i = 0; i < dim; ++i) add_grad(tree_, grad, pl.translate[i], g[ins.translate_at + i]);
+        }
+        if (ins.has_scale) add_grad(tree_, grad, pl.scale, g[ins.scale_at]);
+        if (ins.step != StepKind::kCrisp) add_grad(tree_, grad, node.step.param, g[ins.step_at]);
+        break;
+      }
+      case OpCode::kBilinear: {
+        if (ins.bilinear == BilinearSource::kConstant) break;
+        // a = c1 + c2, b = c1 + c3, d = c0 - c1 - c2 - c3
+        const std::array<double, 4> gw{g[2], g[0] + g[1] - g[2], g[0] - g[2], g[1] - g[2]};
+        if (ins.bilinear == BilinearSource::kBarycentric) {
+          for (int i = 0; i < 4; ++i) add_grad(tree_, grad, node.unified[i], gw[i]);
+        } else {
+          std::array<double, 4> l{};
+          for (int i = 0; i < 4; ++i) l[i] = params[node.unified[i].index];
+          double gt = 0.0, gomega = 0.0;
+          const auto gl = logic::unified_weights_vjp(l, value_or(params, node.temperature, 1000.0),
+                                                     value_or(params, node.omega, 10.0), gw, &gt,
+                                                     &gomega);
+          for (int i = 0; i < 4; ++i) add_grad(tree_, grad, node.unified[i], gl[i]);
+          add_grad(tree_, grad, node.temperature, gt);
+          add_grad(tree_, grad, node.omega, gomega);
+        }
+        break;
+      }
+      case OpCode::kLogic:
+        add_grad(tree_, grad, node.logic.p, g[0]);
+        add_grad(tree_, grad, node.complement.lambda, g[1]);
+        break;
+      case OpCode::kComplement:
+        add_grad(tree_, grad, node.complement.lambda, g[0]);
+        break;
+    }
+  }
+}
+
+}  // namespace fuzzycsg

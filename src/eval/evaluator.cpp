@@ -1,0 +1,221 @@
+#include "fuzzycsg/eval/evaluator.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include "eval/kernel.hpp"
+#include "fuzzycsg/core/error.hpp"
+
+namespace fuzzycsg {
+
+namespace kernel {
+
+Scratch::Scratch(std::size_t tape_size, std::size_t stack_depth, std::size_t max_theta)
+    : values(hwy::AllocateAligned<float>(tape_size * kBlock)),
+      stack(hwy::AllocateAligned<float>((stack_depth + 1) * kBlock)),
+      points(hwy::AllocateAligned<float>(3 * kBlock)),
+      monomials(hwy::AllocateAligned<float>(9 * kBlock)),
+      dtheta(hwy::AllocateAligned<float>(std::max<std::size_t>(max_theta, 1))) {}
+
+}  // namespace kernel
+
+namespace {
+
+// Chunks are fixed by the number of points alone, so the order of every floating-point sum
+// (and so every result) does not depend on the thread count or on scheduling.
+constexpr std::size_t kMaxChunks = 32;
+constexpr std::size_t kMinBlocksPerChunk = 2;
+
+struct Chunking {
+  std::size_t blocks = 0, chunks = 0;
+  std::size_t begin(std::size_t c, std::size_t n) const {
+    return std::min(n, (c * blocks / chunks) * kernel::kBlock);
+  }
+};
+
+Chunking chunking(std::size_t n) {
+  Chunking c;
+  c.blocks = (n + kernel::kBlock - 1) / kernel::kBlock;
+  c.chunks = std::clamp<std::size_t>(c.blocks / kMinBlocksPerChunk, 1, kMaxChunks);
+  return c;
+}
+
+[[noreturn]] void bad_argument(const std::string& what) { throw InputError(what); }
+
+}  // namespace
+
+struct Evaluator::Impl {
+  Program program;
+  std::vector<const PrimitiveShape*> shapes;
+  std::size_t max_theta = 1;
+  int threads = 1;
+  mutable tbb::task_arena arena;
+  mutable tbb::enumerable_thread_specific<std::unique_ptr<kernel::Scratch>> scratch;
+
+  Impl(const Tree& tree, EvalOptions options)
+      : program(Program::compile(tree)),
+        threads(options.threads > 0 ? options.threads
+                                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
+        arena(threads) {
+    const auto tape = program.tape();
+    shapes.resize(tape.size(), nullptr);
+    for (std::size_t k = 0; k < tape.size(); ++k) {
+      if (tape[k].code == OpCode::kLeaf || tape[k].code == OpCode::kLeafQuadric3) {
+        shapes[k] = &program.tree().node(tape[k].node).shape;
+        max_theta = std::max(max_theta, static_cast<std::size_t>(tape[k].num_theta));
+      }
+    }
+  }
+
+  kernel::Scratch& local_scratch() const {
+    auto& s = scratch.local();
+    if (!s) {
+      s = std::make_unique<kernel::Scratch>(program.tape().size(),
+                                            static_cast<std::size_t>(program.max_stack_depth()),
+                                            max_theta);
+    }
+    return *s;
+  }
+
+  std::vector<float> constants(std::span<const double> params) const {
+    if (params.size() != program.num_params()) {
+      bad_argument("Evaluator: params has " + std::to_string(params.size()) +
+                   " entries, expected " + std::to_string(program.num_params()));
+    }
+    std::vector<double> c(program.num_consts());
+    program.prepare(params, c);
+    return {c.begin(), c.end()};
+  }
+
+  std::size_t point_count(std::span<const float> points, const char* fn) const {
+    const auto dim = static_cast<std::size_t>(program.dim());
+    if (points.size() % dim != 0) {
+      bad_argument(std::string("Evaluator::") + fn + ": points has " +
+                   std::to_string(points.size()) + " floats, not a multiple of dim " +
+                   std::to_string(dim));
+    }
+    return points.size() / dim;
+  }
+
+  kernel::Args args(const std::vector<float>& consts, std::span<const float> points) const {
+    kernel::Args a;
+    a.tape = program.tape();
+    a.shapes = shapes.data();
+    a.consts = consts.data();
+    a.dim = program.dim();
+    a.has_quadric3 = program.has_quadric_fast_path();
+    a.points = points.data();
+    return a;
+  }
+};
+
+Evaluator::Evaluator(const Tree& tree, EvalOptions options)
+    : impl_(std::make_unique<Impl>(tree, options)) {}
+Evaluator::~Evaluator() = default;
+Evaluator::Evaluator(Evaluator&&) noexcept = default;
+Evaluator& Evaluator::operator=(Evaluator&&) noexcept = default;
+
+const Program& Evaluator::program() const { return impl_->program; }
+int Evaluator::dim() const { return impl_->program.dim(); }
+std::size_t Evaluator::num_params() const { return impl_->program.num_params(); }
+
+void Evaluator::forward(std::span<const double> params, std::span<const float> points,
+                        std::span<float> out) const {
+  const Impl& im = *impl_;
+  const std::size_t n = im.point_count(points, "forward");
+  if (out.size() != n) {
+    bad_argument("Evaluator::forward: out has " + std::to_string(out.size()) +
+                 " entries, expected " + std::to_string(n) + " (one per point)");
+  }
+  if (n == 0) return;
+  const auto consts = im.constants(params);
+  kernel::Args a = im.args(consts, points);
+  a.occupancy = out.data();
+  const Chunking ch = chunking(n);
+  im.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
+      kernel::Scratch& s = im.local_scratch();
+      for (std::size_t c = r.begin(); c != r.end(); ++c) {
+        kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, nullptr, nullptr);
+      }
+    });
+  });
+}
+
+double Evaluator::backward(std::span<const double> params, std::span<const float> points,
+                           const Loss& loss, std::span<double> grad,
+                           std::span<float> occupancy) const {
+  const Impl& im = *impl_;
+  const std::size_t n = im.point_count(points, "backward");
+  if (grad.size() != im.program.num_params()) {
+    bad_argument("Evaluator::backward: grad has " + std::to_string(grad.size()) +
+                 " entries, expected " + std::to_string(im.program.num_params()));
+  }
+  if (!occupancy.empty() && occupancy.size() != n) {
+    bad_argument("Evaluator::backward: occupancy has " + std::to_string(occupancy.size()) +
+                 " entries, expected " + std::to_string(n));
+  }
+  std::fill(grad.begin(), grad.end(), 0.0);
+  const auto consts = im.constants(params);
+  kernel::Args a = im.args(consts, points);
+  a.occupancy = occupancy.empty() ? nullptr : occupancy.data();
+  a.loss_kind = loss.kind;
+  if (loss.kind == Loss::Kind::kMse) {
+    if (loss.targets.size() != n) {
+      bad_argument("Evaluator::backward: targets has " + std::to_string(loss.targets.size()) +
+                   " entries, expected " + std::to_string(n) + " (one per point)");
+    }
+    a.targets = loss.targets.data();
+    double wsum = static_cast<double>(n);
+    if (!loss.weights.empty()) {
+      if (loss.weights.size() != n) {
+        bad_argument("Evaluator::backward: weights has " + std::to_string(loss.weights.size()) +
+                     " entries, expected " + std::to_string(n) + " (one per point)");
+      }
+      wsum = 0.0;
+      for (float w : loss.weights) {
+        if (!(w >= 0.0f) || !std::isfinite(w)) {
+          bad_argument("Evaluator::backward: weights must be finite and >= 0");
+        }
+        wsum += w;
+      }
+      a.weights = loss.weights.data();
+    }
+    if (!(wsum > 0.0)) bad_argument("Evaluator::backward: the weights sum to 0");
+    a.loss_scale = 1.0 / wsum;
+  }
+  if (n == 0) return 0.0;
+
+  const Chunking ch = chunking(n);
+  const std::size_t nc = im.program.num_consts();
+  std::vector<double> chunk_grad(ch.chunks * nc, 0.0);
+  std::vector<double> chunk_loss(ch.chunks, 0.0);
+  im.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
+      kernel::Scratch& s = im.local_scratch();
+      for (std::size_t c = r.begin(); c != r.end(); ++c) {
+        kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, chunk_grad.data() + c * nc,
+                    &chunk_loss[c]);
+      }
+    });
+  });
+  // Fixed-order reduction.
+  std::vector<double> grad_consts(chunk_grad.begin(), chunk_grad.begin() + static_cast<std::ptrdiff_t>(nc));
+  double total = chunk_loss[0];
+  for (std::size_t c = 1; c < ch.chunks; ++c) {
+    const double* g = chunk_grad.data() + c * nc;
+    for (std::size_t k = 0; k < nc; ++k) grad_consts[k] += g[k];
+    total += chunk_loss[c];
+  }
+  im.program.pullback(params, grad_consts, grad);
+  return loss.kind == Loss::Kind::kMse ? total * a.loss_scale : total;
+}
+
+}  // namespace fuzzycsg

@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# The fuzzycsg program driven as a user would: outputs, exit statuses, one-line errors, and no
+# half-written files. Usage: cli_test.sh PATH/TO/fuzzycsg SOURCE_DIR
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# expect_error PATTERN CMD...: exit status 2, exactly one line on stderr matching PATTERN.
+expect_error() {
+  local pattern=$1
+  shift
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  local lines
+  lines=$(wc -l <"$tmp/err")
+  if [[ $rc -ne 2 ]]; then
+    bad "$* -> exit $rc, expected 2 ($(head -c 300 "$tmp/err"))"
+  elif [[ $lines -ne 1 ]]; then
+    bad "$* -> $lines lines on stderr, expected 1: $(cat "$tmp/err")"
+  elif ! grep -qE -- "$pattern" "$tmp/err"; then
+    bad "$* -> stderr '$(cat "$tmp/err")' does not match '$pattern'"
+  else
+    ok
+  fi
+}
+
+cat >"$tmp/sphere.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+ "root": {"op": "union", "children": [
+   {"type": "sphere", "radius": 0.5, "sharpness": 50},
+   {"type": "box", "size": [0.2, 0.2, 2.0], "translate": [0.8, 0, 0], "sharpness": 50}]}}
+JSON
+printf '0 0 0\n# a comment\n\n0.9, 0.0, 0.0\n2 2 2\n' >"$tmp/pts.txt"
+
+# eval: one occupancy per line, in order.
+if "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" -o "$tmp/occ.txt" 2>"$tmp/err"; then
+  mapfile -t occ <"$tmp/occ.txt"
+  if [[ ${#occ[@]} -eq 3 ]] && awk -v a="${occ[0]}" -v b="${occ[1]}" -v c="${occ[2]}" \
+      'BEGIN { exit !(a > 0.99 && b > 0.99 && c < 0.01) }'; then ok; else bad "eval values: ${occ[*]}"; fi
+else
+  bad "eval failed: $(cat "$tmp/err")"
+fi
+
+# eval to stdout equals eval to a file.
+if "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" >"$tmp/occ2.txt" 2>/dev/null &&
+    cmp -s "$tmp/occ.txt" "$tmp/occ2.txt"; then ok; else bad "eval stdout differs from -o"; fi
+
+# --grad: JSON with every parameter by name; d(sum)/d(radius) > 0.
+printf '0.49 0 0\n0 0.5 0\n' >"$tmp/near.txt"
+if "$bin" eval "$tmp/sphere.json" --points "$tmp/near.txt" --grad "$tmp/grad.json" -o /dev/null; then
+  if grep -q '"root.children\[0\].radius"' "$tmp/grad.json" &&
+      grep -q '"root.children\[1\].translate\[0\]"' "$tmp/grad.json" &&
+      awk -F: '/"root.children\[0\].radius"/ { gsub(/[ ,]/, "", $2); exit !($2 > 10) }' "$tmp/grad.json"; then
+    ok
+  else
+    bad "grad json: $(cat "$tmp/grad.json")"
+  fi
+else
+  bad "eval --grad failed"
+fi
+
+# info
+if "$bin" info "$tmp/sphere.json" | grep -qE "primitives +2" &&
+    "$bin" info "$tmp/sphere.json" --json | grep -q '"dim": 3'; then ok; else bad "info"; fi
+
+# demo runs and reports the volume.
+if "$bin" demo --resolution 32 | grep -q "volume"; then ok; else bad "demo"; fi
+
+# Bad input: one line, exit 2, naming the file and the field.
+echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"
+expect_error "broken.json: line [0-9]+, column [0-9]+" "$bin" info "$tmp/broken.json"
+sed 's/"radius": 0.5/"radius": -0.2/' "$tmp/sphere.json" >"$tmp/negative.json"
+expect_error "negative.json: root.children\[0\].radius: must be > 0 \(got -0.2\)" \
+  "$bin" info "$tmp/negative.json"
+sed 's/"sphere"/"sphear"/' "$tmp/sphere.json" >"$tmp/unknown.json"
+expect_error "unknown.json: root.children\[0\].*sphear" "$bin" eval "$tmp/unknown.json" --points "$tmp/pts.txt"
+sed 's/"radius"/"radus"/' "$tmp/sphere.json" >"$tmp/field.json"
+expect_error "field.json: root.children\[0\].*radus" "$bin" info "$tmp/field.json"
+: >"$tmp/empty.json"
+expect_error "empty.json" "$bin" info "$tmp/empty.json"
+expect_error "no-such-file.json" "$bin" info "$tmp/no-such-file.json"
+printf '0 0 0\n1 2 abc\n' >"$tmp/garbage.txt"
+expect_error "garbage.txt: line 2, column [0-9]+" "$bin" eval "$tmp/sphere.json" --points "$tmp/garbage.txt"
+printf '0 0\n' >"$tmp/short.txt"
+expect_error "short.txt: line 1" "$bin" eval "$tmp/sphere.json" --points "$tmp/short.txt"
+expect_error "--frobnicate" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" --frobnicate
+expect_error "threads" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" --threads -3
+expect_error "cannot write" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" -o "$tmp/no/such/dir/out.txt"
+
+# A failed run leaves an existing output file untouched and no temporary files behind.
+echo "previous" >"$tmp/keep.txt"
+"$bin" eval "$tmp/sphere.json" --points "$tmp/garbage.txt" -o "$tmp/keep.txt" 2>/dev/null
+if [[ "$(cat "$tmp/keep.txt")" == "previous" ]]; then ok; else bad "output clobbered by a failed run"; fi
+if [[ -z "$(find "$tmp" -name '*.tmp*' -o -name '.*keep*')" ]]; then ok; else bad "temporary files left: $(ls -a "$tmp")"; fi
+
+# Every example tree reads, evaluates and reports.
+for ex in "$src"/examples/*.json; do
+  dim=$(grep -oE '"dim": *[23]' "$ex" | grep -oE '[23]$')
+  if [[ $dim == 3 ]]; then echo "0 0 0" >"$tmp/p.txt"; else echo "0 0" >"$tmp/p.txt"; fi
+  if "$bin" info "$ex" >/dev/null && "$bin" eval "$ex" --points "$tmp/p.txt" >/dev/null; then
+    ok
+  else
+    bad "example $ex"
+  fi
+done
+
+echo "$pass passed, $fail failed"
+[[ $fail -eq 0 ]]

@@ -1,0 +1,303 @@
+// The kernel against the double-precision reference: values, gradients (against central
+// differences of the reference), tails of partial blocks, losses, determinism across threads.
+
+#include "fuzzycsg/eval/evaluator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fuzzycsg/core/builders.hpp"
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
+
+namespace fuzzycsg {
+namespace {
+
+std::vector<float> random_points(std::size_t n, int dim, std::uint64_t seed, float extent = 1.0f) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(-extent, extent);
+  std::vector<float> p(n * static_cast<std::size_t>(dim));
+  for (float& v : p) v = u(rng);
+  return p;
+}
+
+std::vector<double> reference_values(const Tree& tree, std::span<const double> params,
+                                     const std::vector<float>& points) {
+  const std::size_t dim = static_cast<std::size_t>(tree.dim);
+  std::vector<double> out(points.size() / dim);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    double p[3] = {0, 0, 0};
+    for (std::size_t j = 0; j < dim; ++j) p[j] = points[i * dim + j];
+    out[i] = reference_occupancy(tree, params, p);
+  }
+  return out;
+}
+
+double reference_mse(const Tree& tree, std::span<const double> params,
+                     const std::vector<float>& points, const std::vector<float>& targets) {
+  const auto v = reference_values(tree, params, points);
+  double s = 0.0;
+  for (std::size_t i = 0; i < v.size(); ++i) s += (v[i] - targets[i]) * (v[i] - targets[i]);
+  return s / static_cast<double>(v.size());
+}
+
+// Checks forward values against the reference and the MSE gradient against central
+// differences of the reference loss, for every free parameter (or every `stride`-th one).
+void check_tree(const Tree& tree, std::size_t n, std::uint64_t seed, std::size_t stride = 1,
+                double grad_tol = 2e-3) {
+  const Evaluator ev(tree, EvalOptions{2});
+  const auto params = tree.params.values();
+  const auto points = random_points(n, tree.dim, seed);
+  std::vector<float> occ(n);
+  ev.forward(params, points, occ);
+  const auto ref = reference_values(tree, params, points);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_NEAR(occ[i], ref[i], 2e-5) << "point " << i;
+  }
+
+  std::vector<float> targets(n);
+  std::mt19937_64 rng(seed + 1);
+  for (float& t : targets) t = static_cast<float>(rng() % 2);
+  std::vector<double> grad(params.size());
+  const double loss = ev.backward(params, points, Loss{Loss::Kind::kMse, targets, {}}, grad);
+  EXPECT_NEAR(loss, reference_mse(tree, params, points, targets), 1e-5);
+
+  double scale = 0.0;
+  for (double g : grad) scale = std::max(scale, std::abs(g));
+  for (std::size_t k = 0; k < params.size(); k += stride) {
+    const Parameter& p = tree.params.at(k);
+    if (p.fixed) {
+      EXPECT_EQ(grad[k], 0.0) << p.name;
+      continue;
+    }
+    const double h = 1e-6 * std::max(1.0, std::abs(params[k]));
+    auto plus = params, minus = params;
+    plus[k] += h;
+    minus[k] -= h;
+    const double fd = (reference_mse(tree, plus, points, targets) -
+                       reference_mse(tree, minus, points, targets)) /
+                      (2 * h);
+    EXPECT_NEAR(grad[k], fd, grad_tol * std::max(1e-2, scale)) << p.name;
+  }
+}
+
+TEST(Evaluator, QuadricUnifiedTreeMatchesReference) {
+  for (int leaves : {1, 2, 8, 32}) {
+    FullTreeOptions o;
+    o.leaves = leaves;
+    o.seed = 7 + leaves;
+    o.temperature = 3.0;  // soft operator weights, so every logit has a gradient
+    check_tree(make_full_binary_tree(o), 200, 11);
+  }
+}
+
+TEST(Evaluator, FixedBooleanTreesMatchReference) {
+  for (OperatorMode mode : {OperatorMode::kProduct, OperatorMode::kGodel}) {
+    FullTreeOptions o;
+    o.leaves = 16;
+    o.ops = mode;
+    o.seed = 3;
+    check_tree(make_full_binary_tree(o), 150, 5);
+  }
+}
+
+TEST(Evaluator, EveryPlacedFamilyMatchesReference) {
+  for (PrimitiveType t : {PrimitiveType::kSphere, PrimitiveType::kBox, PrimitiveType::kCylinder,
+                          PrimitiveType::kCone, PrimitiveType::kTorus, PrimitiveType::kCapsule,
+                          PrimitiveType::kEllipsoid, PrimitiveType::kPlane,
+                          PrimitiveType::kMlp}) {
+    FullTreeOptions o;
+    o.leaves = 4;
+    o.family = t;
+    o.seed = 100 + static_cast<int>(t);
+    o.sharpness = 8.0;
+    o.temperature = 2.0;
+    SCOPED_TRACE(std::string(primitive_info(t).name));
+    check_tree(make_full_binary_tree(o), 120, 21, t == PrimitiveType::kMlp ? 7 : 1);
+  }
+  for (PrimitiveType t : {PrimitiveType::kCircle, PrimitiveType::kRectangle,
+                          PrimitiveType::kEllipse, PrimitiveType::kHalfPlane,
+                          PrimitiveType::kQuadric2}) {
+    FullTreeOptions o;
+    o.dim = 2;
+    o.leaves = 4;
+    o.family = t;
+    o.seed = 200 + static_cast<int>(t);
+    o.sharpness = 8.0;
+    o.temperature = 2.0;
+    SCOPED_TRACE(std::string(primitive_info(t).name));
+    check_tree(make_full_binary_tree(o), 120, 22);
+  }
+}
+
+// A tree with every operator family, complements, n-ary folds, steps and shared parameters.
+constexpr const char* kMixed = R"({
+  "format": "fuzzycsg-tree", "version": 1, "dim": 3,
+  "parameters": {"r": 0.45},
+  "root": {"op": "union", "logic": "yager", "p": 2.5, "children": [
+    {"op": "intersection", "logic": "hamacher", "a": 0.3, "children": [
+      {"type": "sphere", "radius": {"param": "r"}, "translate": [0.1, 0.0, -0.1], "sharpness": 6},
+      {"type": "box", "size": [0.8, 0.6, 0.9], "rotate": [10, 20, 30], "scale": 1.2, "sharpness": 5},
+      {"type": "cylinder", "radius": 0.3, "height": 1.1, "step": {"hn": 3, "range": 0.4}}]},
+    {"op": "difference", "logic": "dombi", "lambda": 1.5, "complement": {"type": "sugeno", "lambda": 0.5},
+     "children": [
+      {"type": "torus", "major": 0.5, "minor": 0.15, "translate": [0, 0.2, 0], "sharpness": 7},
+      {"type": "sphere", "radius": {"param": "r"}, "translate": [0.4, 0.2, 0], "sharpness": 9}]},
+    {"op": "complement", "complement": "cosine", "children": [
+      {"op": "union", "logic": "li-tian", "n": 2, "delta": 0.6, "children": [
+        {"type": "cone", "radius1": 0.4, "radius2": 0.1, "height": 0.8, "sharpness": 4},
+        {"type": "capsule", "radius": 0.2, "height": 0.5, "rotate": [0, 90, 0], "sharpness": 4}]}]},
+    {"op": "intersection", "logic": "bezier", "n": 3, "children": [
+      {"type": "ellipsoid", "radii": [0.6, 0.4, 0.3], "sharpness": 6},
+      {"op": "union", "logic": "li-tian-hat", "n": 3, "delta": 0.7, "children": [
+        {"type": "plane", "normal": [0.2, 1.0, 0.1], "offset": 0.1, "sharpness": 5},
+        {"type": "quadric", "coefficients": [1, 2, 1, 0.1, 0, 0, 0.2, 0, 0, -0.3]}]}]},
+    {"op": "unified", "c": [0.1, 0.5, 0.3, 0.1], "children": [
+      {"type": "sphere", "radius": 0.3, "sharpness": {"value": 6, "fixed": true}},
+      {"op": "difference", "logic": "einstein", "children": [
+        {"type": "box", "size": [0.5, 0.5, 0.5], "sharpness": 5},
+        {"op": "intersection", "logic": "weber", "k": 0.5, "children": [
+          {"type": "sphere", "radius": 0.35, "sharpness": 5},
+          {"op": "union", "logic": "dubois-prade", "k": 0.7, "children": [
+            {"type": "sphere", "radius": 0.2, "translate": [0.3, 0, 0], "sharpness": 5},
+            {"op": "difference", "logic": "lukasiewicz", "complement": {"type": "yager", "lambda": 2},
+             "children": [
+              {"type": "sphere", "radius": 0.25, "sharpness": 5},
+              {"type": "sphere", "radius": 0.1, "step": "crisp"}]}]}]}]}]}]}
+})";
+
+TEST(Evaluator, EveryOperatorFamilyMatchesReference) {
+  const Tree tree = io::read_tree_string(kMixed, "mixed");
+  check_tree(tree, 300, 31, 1, 3e-3);
+}
+
+TEST(Evaluator, PartialBlocksAndEmptyInput) {
+  FullTreeOptions o;
+  o.leaves = 4;
+  const Tree tree = make_full_binary_tree(o);
+  const Evaluator ev(tree);
+  const auto params = tree.params.values();
+  for (std::size_t n : {0u, 1u, 63u, 64u, 65u, 1000u}) {
+    const auto points = random_points(n, 3, n);
+    std::vector<float> occ(n, -1.0f);
+    ev.forward(params, points, occ);
+    const auto ref = reference_values(tree, params, points);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_NEAR(occ[i], ref[i], 2e-5) << n << ":" << i;
+    std::vector<double> grad(params.size());
+    std::vector<float> occ2(n);
+    const double sum = ev.backward(params, points, Loss{}, grad, occ2);
+    double ref_sum = 0.0;
+    for (double v : ref) ref_sum += v;
+    EXPECT_NEAR(sum, ref_sum, 1e-4 * std::max(1.0, ref_sum));
+    EXPECT_EQ(occ, occ2);
+  }
+}
+
+TEST(Evaluator, WeightedMse) {
+  FullTreeOptions o;
+  o.leaves = 8;
+  const Tree tree = make_full_binary_tree(o);
+  const Evaluator ev(tree);
+  const auto params = tree.params.values();
+  const std::size_t n = 500;
+  const auto points = random_points(n, 3, 4);
+  std::vector<float> targets(n), weights(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    targets[i] = static_cast<float>(i % 2);
+    weights[i] = static_cast<float>(i % 5);
+  }
+  std::vector<double> grad(params.size()), grad_dup(params.size());
+  const double loss = ev.backward(params, points, Loss{Loss::Kind::kMse, targets, weights}, grad);
+  const auto ref = reference_values(tree, params, points);
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    num += weights[i] * (ref[i] - targets[i]) * (ref[i] - targets[i]);
+    den += weights[i];
+  }
+  EXPECT_NEAR(loss, num / den, 1e-6);
+  // Integer weights are the same as repeating points.
+  std::vector<float> dup_points, dup_targets;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < static_cast<int>(weights[i]); ++k) {
+      dup_points.insert(dup_points.end(), points.begin() + 3 * i, points.begin() + 3 * i + 3);
+      dup_targets.push_back(targets[i]);
+    }
+  }
+  const double loss_dup =
+      ev.backward(params, dup_points, Loss{Loss::Kind::kMse, dup_targets, {}}, grad_dup);
+  EXPECT_NEAR(loss, loss_dup, 1e-6);
+  for (std::size_t k = 0; k < grad.size(); ++k) EXPECT_NEAR(grad[k], grad_dup[k], 1e-5);
+}
+
+TEST(Evaluator, IdenticalForEveryThreadCount) {
+  FullTreeOptions o;
+  o.leaves = 64;
+  o.seed = 9;
+  const Tree tree = make_full_binary_tree(o);
+  const auto params = tree.params.values();
+  const std::size_t n = 20000;
+  const auto points = random_points(n, 3, 12);
+  std::vector<float> targets(n);
+  for (std::size_t i = 0; i < n; ++i) targets[i] = static_cast<float>((i * 7) % 3 == 0);
+  std::vector<double> first;
+  double first_loss = 0.0;
+  for (int threads : {1, 2, 3, 4, 2}) {
+    const Evaluator ev(tree, EvalOptions{threads});
+    std::vector<double> grad(params.size());
+    const double loss = ev.backward(params, points, Loss{Loss::Kind::kMse, targets, {}}, grad);
+    if (first.empty()) {
+      first = grad;
+      first_loss = loss;
+      continue;
+    }
+    EXPECT_EQ(loss, first_loss) << threads << " threads";
+    EXPECT_EQ(grad, first) << threads << " threads";
+  }
+}
+
+TEST(Evaluator, RejectsMismatchedSizes) {
+  FullTreeOptions o;
+  o.leaves = 2;
+  const Tree tree = make_full_binary_tree(o);
+  const Evaluator ev(tree);
+  auto params = tree.params.values();
+  std::vector<float> points(9), out(3), bad_out(2);
+  EXPECT_THROW(ev.forward(params, points, bad_out), InputError);
+  std::vector<float> odd_points(8);
+  EXPECT_THROW(ev.forward(params, odd_points, out), InputError);
+  std::vector<double> short_params(params.begin(), params.end() - 1);
+  EXPECT_THROW(ev.forward(short_params, points, out), InputError);
+  std::vector<double> grad(params.size());
+  std::vector<float> targets(2);
+  EXPECT_THROW(ev.backward(params, points, Loss{Loss::Kind::kMse, targets, {}}, grad), InputError);
+  std::vector<float> t3(3), zero_w(3, 0.0f);
+  EXPECT_THROW(ev.backward(params, points, Loss{Loss::Kind::kMse, t3, zero_w}, grad), InputError);
+}
+
+TEST(Program, PostOrderTapeWithFoldedNaryNodes) {
+  const Tree tree = io::read_tree_string(kMixed, "mixed");
+  const Program prog = Program::compile(tree);
+  int leaves = 0;
+  for (std::size_t k = 0; k < prog.tape().size(); ++k) {
+    const Instruction& ins = prog.tape()[k];
+    if (ins.left >= 0) {
+      EXPECT_LT(ins.left, static_cast<int>(k));
+    }
+    if (ins.right >= 0) {
+      EXPECT_LT(ins.right, static_cast<int>(k));
+      EXPECT_LT(ins.left, ins.right);
+    }
+    leaves += (ins.code == OpCode::kLeaf || ins.code == OpCode::kLeafQuadric3);
+  }
+  EXPECT_EQ(leaves, count(tree).primitives);
+  // A binary fold of k children takes k - 1 instructions; the root union has 5 children.
+  EXPECT_EQ(prog.tape().size(),
+            static_cast<std::size_t>(2 * count(tree).primitives - 1 + 1 /* complement */));
+}
+
+}  // namespace
+}  // namespace fuzzycsg
