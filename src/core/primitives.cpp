@@ -1,22 +1,20 @@
 // The primitive families' implicit functions and their exact gradients.
 //
-// Most families are written once as a template over the scalar type S and evaluated either on
-// plain numbers (primitive_value) or on forward-mode dual numbers seeded with the point and the
-// parameters (primitive_value_grad). The families with many parameters or an iterative solve
-// (plane, half-plane, quadrics, polygon, ellipse, MLP) have hand-written gradients.
+// Every family is one function computing f and, when dp is not null, df/dp and df/dtheta by
+// hand (the per-point cost matters: the evaluator calls these inside its block loops). The
+// gradients are checked against finite differences in tests/core/primitives_test.cpp.
 //
 // Exact signed distances are arranged so that the gradient on the surface is the surface
-// normal: inside a convex piece the distance is a maximum of signed plane distances (smooth
-// across the surface) and the Euclidean length is only taken strictly outside. At kinks (box
-// edges, the axis of a solid of revolution, the centre of a sphere) the gradient is one of the
-// one-sided gradients, or 0 where the distance is a norm at its minimum; never NaN.
+// normal: inside a convex piece the distance is the largest signed distance to the piece's
+// planes (smooth across the surface), and Euclidean lengths are taken only strictly outside.
+// At kinks (box edges, the axis of a solid of revolution, the centre of a sphere) the gradient
+// is one of the one-sided gradients, or 0 where the distance is a norm at its minimum; ties go
+// to the first candidate in the order written. Never NaN for parameters in their ranges.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
-#include "fuzzycsg/core/dual.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/primitives.hpp"
 
@@ -24,24 +22,15 @@ namespace fuzzycsg {
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------
-// Helpers shared by plain and dual scalars. Ties go to the first argument.
-
-template <class S>
-S max2(const S& a, const S& b) {
-  return a < b ? b : a;
-}
-template <class S>
-S min2(const S& a, const S& b) {
-  return b < a ? b : a;
-}
-template <class S>
-S clamp3(const S& x, const S& lo, const S& hi) {
-  return x < lo ? lo : (hi < x ? hi : x);
-}
-template <class S>
-S sq(const S& x) {
+template <class T>
+T sq(T x) {
   return x * x;
+}
+
+// d|x|/dx with +1 at 0.
+template <class T>
+T sign_of(T x) {
+  return x < T(0) ? T(-1) : T(1);
 }
 
 // Number of parameters of the fixed-size families (the polygon and the MLP vary).
@@ -83,165 +72,315 @@ S sq(const S& x) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Families written over S (plain or dual). p: the local point, th: the parameters.
+// Sphere and circle: |p| - r. At p = 0 the point gradient is 0.
 
-// |p| - r.
-struct SphereSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    return sqrt(sq(p[0]) + sq(p[1]) + sq(p[2])) - th[0];
+template <int kDim, class T>
+T ball_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  T ss = T(0);
+  for (int i = 0; i < kDim; ++i) ss += sq(p[i]);
+  const T s = std::sqrt(ss);
+  if (dp == nullptr) return s - th[0];
+  const T inv = s > T(0) ? T(1) / s : T(0);
+  for (int i = 0; i < kDim; ++i) dp[i] = p[i] * inv;
+  dth[0] = T(-1);
+  return s - th[0];
+}
+
+// ---------------------------------------------------------------------------------------------
+// Box and rectangle of full extents th[0..kDim), centred. With q = |p| - size/2: inside (every
+// q <= 0) f is the largest q; outside f is the length of the positive part of q.
+
+template <int kDim, class T>
+T box_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  T q[kDim];
+  int m = 0;
+  for (int i = 0; i < kDim; ++i) {
+    q[i] = std::abs(p[i]) - T(0.5) * th[i];
+    if (q[m] < q[i]) m = i;
   }
+  if (q[m] <= T(0)) {
+    if (dp != nullptr) {
+      for (int i = 0; i < kDim; ++i) dp[i] = dth[i] = T(0);
+      dp[m] = sign_of(p[m]);
+      dth[m] = T(-0.5);
+    }
+    return q[m];
+  }
+  T ss = T(0);
+  for (int i = 0; i < kDim; ++i) {
+    q[i] = std::max(q[i], T(0));
+    ss += sq(q[i]);
+  }
+  const T f = std::sqrt(ss);
+  if (dp != nullptr) {
+    const T inv = T(1) / f;
+    for (int i = 0; i < kDim; ++i) {
+      const T g = q[i] * inv;
+      dp[i] = g * sign_of(p[i]);
+      dth[i] = T(-0.5) * g;
+    }
+  }
+  return f;
+}
+
+// Radial distance rho = |p.xy| of a 3D point and the unit radial direction (0 on the axis).
+template <class T>
+struct Radial {
+  T rho;
+  T cx;
+  T cy;
 };
 
-// Box of full extents th[0..2], centred. Outside: length of the positive part of q = |p| - b;
-// inside: the largest (least negative) component of q.
-struct BoxSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::abs;
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S zero(T(0));
-    const S qx = abs(p[0]) - th[0] * T(0.5);
-    const S qy = abs(p[1]) - th[1] * T(0.5);
-    const S qz = abs(p[2]) - th[2] * T(0.5);
-    const S inside = min2(max2(qx, max2(qy, qz)), zero);
-    const S outside = sqrt(sq(max2(qx, zero)) + sq(max2(qy, zero)) + sq(max2(qz, zero)));
-    return inside + outside;
-  }
-};
+template <class T>
+Radial<T> radial(const T* p) {
+  const T rho = std::sqrt(sq(p[0]) + sq(p[1]));
+  const T inv = rho > T(0) ? T(1) / rho : T(0);
+  return {rho, p[0] * inv, p[1] * inv};
+}
 
-// Capped cylinder, axis z, radius th[0], height th[1], centred.
-struct CylinderSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::abs;
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S zero(T(0));
-    const S dr = sqrt(sq(p[0]) + sq(p[1])) - th[0];
-    const S dz = abs(p[2]) - th[1] * T(0.5);
-    return min2(max2(dr, dz), zero) + sqrt(sq(max2(dr, zero)) + sq(max2(dz, zero)));
-  }
-};
+// ---------------------------------------------------------------------------------------------
+// Capped cylinder, axis z, radius th[0], height th[1], centred: the box SDF of (rho - r,
+// |z| - h/2) in the (rho, z) half-plane.
 
+template <class T>
+T cylinder_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  const Radial<T> rad = radial(p);
+  const T dr = rad.rho - th[0];
+  const T dz = std::abs(p[2]) - T(0.5) * th[1];
+  T gr = T(0);  // df/d(rho)
+  T gz = T(0);  // df/d|z|
+  T f;
+  if (dr >= dz && dr <= T(0)) {
+    f = dr;
+    gr = T(1);
+  } else if (dz > dr && dz <= T(0)) {
+    f = dz;
+    gz = T(1);
+  } else {
+    const T odr = std::max(dr, T(0));
+    const T odz = std::max(dz, T(0));
+    f = std::sqrt(sq(odr) + sq(odz));
+    gr = odr / f;
+    gz = odz / f;
+  }
+  if (dp != nullptr) {
+    dp[0] = gr * rad.cx;
+    dp[1] = gr * rad.cy;
+    dp[2] = gz * sign_of(p[2]);
+    dth[0] = -gr;
+    dth[1] = T(-0.5) * gz;
+  }
+  return f;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Capped cone: radius th[0] at z = -h/2, th[1] at z = +h/2, height h = th[2].
-// In the half-plane (rho, z), rho = |p.xy|, the solid's section is the trapezoid with corners
-// (0,-h/2), (r1,-h/2), (r2,h/2), (0,h/2); its mirror image in rho makes it convex. Inside, the
-// distance is the largest signed distance to the lines of the bottom cap, the top cap and the
-// side; outside it is the distance to the nearest of the three boundary segments.
-struct ConeSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S zero(T(0));
-    const S one(T(1));
-    const S& r1 = th[0];
-    const S& r2 = th[1];
-    const S& h = th[2];
-    const S rho = sqrt(sq(p[0]) + sq(p[1]));
-    const S zb = p[2] + h * T(0.5);  // height above the bottom cap
-    const S zt = p[2] - h * T(0.5);  // height above the top cap
-    const S ex = r2 - r1;            // side direction, bottom rim to top rim: (ex, h)
-    const S ee = sq(ex) + sq(h);
-    const S wr = rho - r1;
-    const S side = (wr * h - zb * ex) / sqrt(ee);  // outward normal (h, -ex) / |e|
-    const S inside = max2(max2(-zb, zt), side);
-    if (inside <= T(0)) return inside;
-    const S d_caps = min2(sq(rho - min2(rho, r1)) + sq(zb), sq(rho - min2(rho, r2)) + sq(zt));
-    const S t_line = (wr * ex + zb * h) / ee;
-    const S t = clamp3(t_line, zero, one);
-    const S d_side = sq(wr - t * ex) + sq(zb - t * h);
-    // Nearest to the inside of the side segment: the line distance, whose direction (unlike
-    // that of the difference vector) stays exact as the distance goes to 0.
-    if (d_side <= d_caps && t_line > T(0) && t_line < T(1)) return side;
-    return sqrt(min2(d_caps, d_side));
-  }
-};
+// In the half-plane (rho, z) the section is the trapezoid with corners (0,-h/2), (r1,-h/2),
+// (r2,h/2), (0,h/2); with its mirror image in rho it is convex. Inside, f is the largest signed
+// distance to the lines of the bottom cap, the top cap and the side. Outside, f is the distance
+// to the nearest of the three boundary segments; when that is the inside of the side segment
+// the side line's distance is used, whose direction stays exact as the distance goes to 0.
+// Parameter derivatives: of the active line, or -g . dc/dtheta for the nearest point c.
 
+template <class T>
+T cone_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  const T r1 = th[0];
+  const T r2 = th[1];
+  const T h = th[2];
+  const Radial<T> rad = radial(p);
+  const T rho = rad.rho;
+  const T zb = p[2] + T(0.5) * h;  // height above the bottom cap
+  const T zt = p[2] - T(0.5) * h;  // height above the top cap
+  const T ex = r2 - r1;            // side direction, bottom rim to top rim: (ex, h)
+  const T ee = sq(ex) + sq(h);
+  const T len = std::sqrt(ee);
+  const T wr = rho - r1;
+  const T side = (wr * h - zb * ex) / len;  // along the outward normal (h, -ex) / len
+
+  enum class Piece { kBottomLine, kTopLine, kSideLine, kSegment };
+  Piece piece = Piece::kBottomLine;
+  T f = -zb;
+  if (f < zt) {
+    piece = Piece::kTopLine;
+    f = zt;
+  }
+  if (f < side) {
+    piece = Piece::kSideLine;
+    f = side;
+  }
+  // Outside: the nearest point c of the boundary and dc/d(r1, r2, h) in (rho, z).
+  T gr = T(0);
+  T gz = T(0);
+  T dc[3][2] = {};
+  if (f > T(0)) {
+    const T cb = std::min(rho, r1);
+    const T ct = std::min(rho, r2);
+    const T d_bottom = sq(rho - cb) + sq(zb);
+    const T d_top = sq(rho - ct) + sq(zt);
+    const T t_line = (wr * ex + zb * h) / ee;
+    const T t = std::clamp(t_line, T(0), T(1));
+    const T sr = wr - t * ex;
+    const T sz = zb - t * h;
+    const T d_side = sq(sr) + sq(sz);
+    const T d_caps = std::min(d_bottom, d_top);
+    if (d_side <= d_caps && t_line > T(0) && t_line < T(1)) {
+      piece = Piece::kSideLine;
+      f = side;
+    } else {
+      piece = Piece::kSegment;
+      T vr;
+      T vz;
+      if (d_side < d_caps) {
+        vr = sr;
+        vz = sz;
+        f = std::sqrt(d_side);
+        dc[0][0] = T(1) - t;  // c = (r1, -h/2) + t (ex, h)
+        dc[1][0] = t;
+        dc[2][1] = t - T(0.5);
+      } else if (d_top < d_bottom) {
+        vr = rho - ct;
+        vz = zt;
+        f = std::sqrt(d_top);
+        dc[1][0] = r2 < rho ? T(1) : T(0);  // c = (min(rho, r2), h/2)
+        dc[2][1] = T(0.5);
+      } else {
+        vr = rho - cb;
+        vz = zb;
+        f = std::sqrt(d_bottom);
+        dc[0][0] = r1 < rho ? T(1) : T(0);  // c = (min(rho, r1), -h/2)
+        dc[2][1] = T(-0.5);
+      }
+      if (f > T(0)) {
+        gr = vr / f;
+        gz = vz / f;
+      }
+    }
+  }
+  if (dp == nullptr) return f;
+  switch (piece) {
+    case Piece::kBottomLine:
+      gz = T(-1);
+      dth[0] = dth[1] = T(0);
+      dth[2] = T(-0.5);
+      break;
+    case Piece::kTopLine:
+      gz = T(1);
+      dth[0] = dth[1] = T(0);
+      dth[2] = T(-0.5);
+      break;
+    case Piece::kSideLine: {
+      const T inv = T(1) / len;
+      const T k = side / ee;
+      gr = h * inv;
+      gz = -ex * inv;
+      dth[0] = (zb - h) * inv + k * ex;
+      dth[1] = -zb * inv - k * ex;
+      dth[2] = (wr - T(0.5) * ex) * inv - k * h;
+      break;
+    }
+    case Piece::kSegment:
+      for (int j = 0; j < 3; ++j) dth[j] = -(gr * dc[j][0] + gz * dc[j][1]);
+      break;
+  }
+  dp[0] = gr * rad.cx;
+  dp[1] = gr * rad.cy;
+  dp[2] = gz;
+  return f;
+}
+
+// ---------------------------------------------------------------------------------------------
 // Torus in the xy plane: major radius th[0], minor radius th[1].
-struct TorusSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    const S rho = sqrt(sq(p[0]) + sq(p[1]));
-    return sqrt(sq(rho - th[0]) + sq(p[2])) - th[1];
-  }
-};
 
-// Distance to the segment z in [-h/2, h/2] of the z axis minus the radius th[0]; h = th[1].
-struct CapsuleSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S hh = th[1] * T(0.5);
-    const S dz = p[2] - clamp3(p[2], -hh, hh);
-    return sqrt(sq(p[0]) + sq(p[1]) + sq(dz)) - th[0];
-  }
-};
+template <class T>
+T torus_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  const Radial<T> rad = radial(p);
+  const T a = rad.rho - th[0];
+  const T l = std::sqrt(sq(a) + sq(p[2]));
+  if (dp == nullptr) return l - th[1];
+  const T inv = l > T(0) ? T(1) / l : T(0);
+  const T gr = a * inv;
+  dp[0] = gr * rad.cx;
+  dp[1] = gr * rad.cy;
+  dp[2] = p[2] * inv;
+  dth[0] = -gr;
+  dth[1] = T(-1);
+  return l - th[1];
+}
 
-// Ellipsoid with semi-axes th[0..2]: the bound f = k0 (k0 - 1) / k1 with k0 = |p/r| and
-// k1 = |p/r^2|, which is 0 on the surface with a unit gradient there. It is evaluated as
-// A (|p| A - 1) / B with A = |u/r|, B = |u/r^2|, u = p/|p|, which stays well scaled near the
-// centre; at p = 0 (where the bound has no limit) f = -min(r) with a zero point gradient.
-struct EllipsoidSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S s = sqrt(sq(p[0]) + sq(p[1]) + sq(p[2]));
-    if (!(s > T(0))) return -min2(min2(th[0], th[1]), th[2]);
-    const S inv = T(1) / s;
-    const S a0 = p[0] * inv / th[0];
-    const S a1 = p[1] * inv / th[1];
-    const S a2 = p[2] * inv / th[2];
-    const S a = sqrt(sq(a0) + sq(a1) + sq(a2));
-    const S b = sqrt(sq(a0 / th[0]) + sq(a1 / th[1]) + sq(a2 / th[2]));
-    return a * (s * a - T(1)) / b;
-  }
-};
+// ---------------------------------------------------------------------------------------------
+// Capsule: distance to the segment z in [-h/2, h/2] of the z axis minus the radius th[0];
+// h = th[1].
 
-// |p| - r in the plane.
-struct CircleSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::sqrt;
-    return sqrt(sq(p[0]) + sq(p[1])) - th[0];
+template <class T>
+T capsule_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  const T hh = T(0.5) * th[1];
+  T dz = T(0);  // z minus the nearest point of the segment
+  T dz_dh = T(0);
+  if (p[2] > hh) {
+    dz = p[2] - hh;
+    dz_dh = T(-0.5);
+  } else if (p[2] < -hh) {
+    dz = p[2] + hh;
+    dz_dh = T(0.5);
   }
-};
+  const T l = std::sqrt(sq(p[0]) + sq(p[1]) + sq(dz));
+  if (dp == nullptr) return l - th[0];
+  const T inv = l > T(0) ? T(1) / l : T(0);
+  dp[0] = p[0] * inv;
+  dp[1] = p[1] * inv;
+  dp[2] = dz * inv;
+  dth[0] = T(-1);
+  dth[1] = dz * inv * dz_dh;
+  return l - th[0];
+}
 
-// Rectangle of full extents th[0..1], centred.
-struct RectangleSdf {
-  template <class S>
-  S operator()(const S* p, const S* th) const {
-    using std::abs;
-    using std::sqrt;
-    using T = dual_scalar_t<S>;
-    const S zero(T(0));
-    const S qx = abs(p[0]) - th[0] * T(0.5);
-    const S qy = abs(p[1]) - th[1] * T(0.5);
-    return min2(max2(qx, qy), zero) + sqrt(sq(max2(qx, zero)) + sq(max2(qy, zero)));
+// ---------------------------------------------------------------------------------------------
+// Ellipsoid with semi-axes r = th[0..2]: the bound f = k0 (k0 - 1) / k1 with k0 = |p/r| and
+// k1 = |p/r^2|, which is 0 on the surface with a unit gradient there and has the sign of the
+// inside test. It is evaluated with the direction u = p/|p|, s = |p|: k0 = s A, k1 = s B with
+// A = |u/r|, B = |u/r^2|, so f = A (s A - 1) / B stays well scaled near the centre. At p = 0,
+// where the bound has no limit, f = -min(r) and the point gradient is 0.
+
+template <class T>
+T ellipsoid_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  const T s = std::sqrt(sq(p[0]) + sq(p[1]) + sq(p[2]));
+  if (!(s > T(0))) {
+    int m = 0;
+    for (int i = 1; i < 3; ++i) {
+      if (th[i] < th[m]) m = i;
+    }
+    if (dp != nullptr) {
+      for (int i = 0; i < 3; ++i) dp[i] = dth[i] = T(0);
+      dth[m] = T(-1);
+    }
+    return -th[m];
   }
-};
-
-// A family written over S, on plain numbers (dp == nullptr) or on dual numbers seeded with the
-// kDim point coordinates and the kParams parameters.
-template <int kDim, int kParams, class T, class Fn>
-T run_family(Fn fn, std::span<const T> theta, const T* p, T* dp, T* dtheta) {
-  FUZZYCSG_ASSERT(theta.size() == static_cast<std::size_t>(kParams));
-  if (dp == nullptr) return fn(p, theta.data());
-  using D = Dual<T, kDim + kParams>;
-  std::array<D, kDim> pd;
-  std::array<D, kParams> td;
-  for (int i = 0; i < kDim; ++i) pd[i] = D::variable(p[i], i);
-  for (int j = 0; j < kParams; ++j) td[j] = D::variable(theta[j], kDim + j);
-  const D r = fn(pd.data(), td.data());
-  for (int i = 0; i < kDim; ++i) dp[i] = r.d[i];
-  for (int j = 0; j < kParams; ++j) dtheta[j] = r.d[kDim + j];
-  return r.v;
+  const T inv = T(1) / s;
+  T a[3];
+  T b[3];
+  T aa = T(0);
+  T bb = T(0);
+  for (int i = 0; i < 3; ++i) {
+    a[i] = p[i] * inv / th[i];  // u_i / r_i
+    b[i] = a[i] / th[i];        // u_i / r_i^2
+    aa += sq(a[i]);
+    bb += sq(b[i]);
+  }
+  const T big_a = std::sqrt(aa);
+  const T big_b = std::sqrt(bb);
+  const T f = big_a * (s * big_a - T(1)) / big_b;
+  if (dp != nullptr) {
+    // df = ((2 k0 - 1) dk0 - f dk1) / k1 with dk0/dp_i = b_i / A, dk1/dp_i = b_i / (r_i^2 B),
+    // dk0/dr_i = -s a_i b_i / A, dk1/dr_i = -2 s b_i^2 / (r_i B).
+    const T c0 = (T(2) * s * big_a - T(1)) / big_a;
+    const T c1 = f / big_b;
+    const T inv_k1 = T(1) / (s * big_b);
+    for (int i = 0; i < 3; ++i) {
+      dp[i] = (c0 * b[i] - c1 * b[i] / sq(th[i])) * inv_k1;
+      dth[i] = (-c0 * a[i] * b[i] + T(2) * c1 * sq(b[i]) / th[i]) / big_b;
+    }
+  }
+  return f;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -364,7 +503,7 @@ T polygon_sdf(std::span<const T> v, const T* p, T* dp, T* dv) {
     const T wy = py - ay;
     const T ee = ex * ex + ey * ey;
     const T t_line = ee > T(0) ? (wx * ex + wy * ey) / ee : T(0);
-    const T t = clamp3(t_line, T(0), T(1));
+    const T t = std::clamp(t_line, T(0), T(1));
     const T cx = wx - t * ex;
     const T cy = wy - t * ey;
     const T d2 = cx * cx + cy * cy;
@@ -604,23 +743,23 @@ T evaluate(const PrimitiveShape& shape, std::span<const T> theta, const T* p, T*
                   theta.size() == static_cast<std::size_t>(fixed_param_count(shape.type)));
   switch (shape.type) {
     case PrimitiveType::kSphere:
-      return run_family<3, 1>(SphereSdf{}, theta, p, dp, dtheta);
+      return ball_sdf<3>(theta, p, dp, dtheta);
     case PrimitiveType::kBox:
-      return run_family<3, 3>(BoxSdf{}, theta, p, dp, dtheta);
+      return box_sdf<3>(theta, p, dp, dtheta);
     case PrimitiveType::kCylinder:
-      return run_family<3, 2>(CylinderSdf{}, theta, p, dp, dtheta);
+      return cylinder_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kCone:
-      return run_family<3, 3>(ConeSdf{}, theta, p, dp, dtheta);
+      return cone_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kTorus:
-      return run_family<3, 2>(TorusSdf{}, theta, p, dp, dtheta);
+      return torus_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kEllipsoid:
-      return run_family<3, 3>(EllipsoidSdf{}, theta, p, dp, dtheta);
+      return ellipsoid_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kCapsule:
-      return run_family<3, 2>(CapsuleSdf{}, theta, p, dp, dtheta);
+      return capsule_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kCircle:
-      return run_family<2, 1>(CircleSdf{}, theta, p, dp, dtheta);
+      return ball_sdf<2>(theta, p, dp, dtheta);
     case PrimitiveType::kRectangle:
-      return run_family<2, 2>(RectangleSdf{}, theta, p, dp, dtheta);
+      return box_sdf<2>(theta, p, dp, dtheta);
     case PrimitiveType::kPlane:
       return plane_sdf<3>(theta, p, dp, dtheta);
     case PrimitiveType::kHalfPlane:

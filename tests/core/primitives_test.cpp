@@ -16,8 +16,6 @@
 #include <utility>
 #include <vector>
 
-#include "fuzzycsg/core/dual.hpp"
-
 namespace fuzzycsg {
 namespace {
 
@@ -985,30 +983,6 @@ TEST(PrimitiveDegenerate, PolygonBoundaryNormalIsOutward) {
     EXPECT_DOUBLE_EQ(g.dp[0], 0.0);
     EXPECT_DOUBLE_EQ(g.dp[1], -1.0);
   }
-}
-
-// ------------------------------------------------------------------------------------------
-// The dual numbers themselves.
-
-TEST(DualNumbers, ArithmeticAndFunctions) {
-  using D = Dual<double, 2>;
-  const D x = D::variable(0.5, 0);
-  const D y = D::variable(2.0, 1);
-  const D f = (x * y + 3.0) / (y - x) - tanh(x) * 2.0 + sqrt(y) + exp(x) / y + abs(-x);
-  const double ex =
-      (0.5 * 2.0 + 3.0) / 1.5 - 2.0 * std::tanh(0.5) + std::sqrt(2.0) + std::exp(0.5) / 2.0 + 0.5;
-  EXPECT_NEAR(f.v, ex, 1e-15);
-  // d/dx and d/dy by hand.
-  const double t = std::tanh(0.5);
-  const double dfdx =
-      (2.0 * 1.5 + 4.0) / (1.5 * 1.5) - 2.0 * (1 - t * t) + std::exp(0.5) / 2.0 + 1.0;
-  const double dfdy = (0.5 * 1.5 - 4.0) / (1.5 * 1.5) + 0.5 / std::sqrt(2.0) - std::exp(0.5) / 4.0;
-  EXPECT_NEAR(f.d[0], dfdx, 1e-14);
-  EXPECT_NEAR(f.d[1], dfdy, 1e-14);
-  const D zero = sqrt(D::variable(0.0, 0));
-  EXPECT_EQ(zero.v, 0.0);
-  EXPECT_EQ(zero.d[0], 0.0);
-  EXPECT_TRUE(x < y && y > 1.0 && 0.0 <= x);
 }
 
 }  // namespace
