@@ -45,7 +45,7 @@ struct PrimitiveInfo {
   std::string_view name;  // tree-file "type"
   int dim;                // 2 or 3
   std::span<const FieldSpec> fields;
-  bool exact_distance;    // f is the exact Euclidean signed distance
+  bool exact_distance;       // f is the exact Euclidean signed distance
   double default_sharpness;  // 1 for quadrics, 50 otherwise (TREE_FORMAT)
 };
 
@@ -59,6 +59,11 @@ struct PrimitiveShape {
   PrimitiveType type = PrimitiveType::kSphere;
   std::vector<int> hidden;  // mlp only, e.g. {16, 16}; activation tanh, linear output
 };
+
+// Limits of the MLP family's hidden layers (the evaluator works in fixed stack scratch); a
+// tree whose "hidden" exceeds them is rejected when it is read.
+inline constexpr int kMlpMaxWidth = 64;
+inline constexpr int kMlpMaxHiddenLayers = 8;
 
 // Number of intrinsic parameters (all fields flattened in schema order). For the polygon it is
 // 2 * vertex count and is given by the tree; for the MLP it follows from `hidden`.
