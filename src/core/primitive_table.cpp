@@ -49,7 +49,7 @@ const std::array<PrimitiveInfo, 16> kTable{{
     {PrimitiveType::kMlp, "mlp", 3, kMlp, false, 50.0},
     {PrimitiveType::kCircle, "circle", 2, kCircle, true, 50.0},
     {PrimitiveType::kRectangle, "rectangle", 2, kRectangle, true, 50.0},
-    {PrimitiveType::kEllipse, "ellipse", 2, kEllipse, false, 50.0},
+    {PrimitiveType::kEllipse, "ellipse", 2, kEllipse, true, 50.0},
     {PrimitiveType::kHalfPlane, "half-plane", 2, kHalfPlane, true, 50.0},
     {PrimitiveType::kPolygon, "polygon", 2, kPolygon, true, 50.0},
     {PrimitiveType::kQuadric2, "quadric", 2, kQuadric2, false, 1.0},

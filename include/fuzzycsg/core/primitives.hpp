@@ -9,8 +9,9 @@
 //       ellipsoid{radii[3]}, capsule{radius,height}, mlp{weights[...]} (+ "hidden": [h1,...])
 //   2D: circle{radius}, rectangle{size[2]}, ellipse{radii[2]}, half-plane{normal[2],offset},
 //       polygon{vertices[[x,y],...]}, quadric{coefficients[6]}
-// Exact Euclidean signed distances except quadric (the polynomial), ellipsoid and ellipse
-// (documented approximations) and mlp (a network).
+// Exact Euclidean signed distances except quadric (the polynomial), ellipsoid (a documented
+// approximation) and mlp (a network). The ellipse distance is exact: the nearest boundary point
+// is found by a safeguarded Newton iteration in double precision.
 
 #include <optional>
 #include <span>
