@@ -76,12 +76,14 @@ inline StepTail<T> step_tail_fixed(T z) {
 #pragma GCC unroll 32
   for (int m = 2; m <= kTop; ++m) {
     const T inv = T(1) / static_cast<T>(m - 1);
-    const T mu = static_cast<T>(m) - u;
+    if constexpr (kLen > 1) {
+      const T mu = static_cast<T>(m) - u;
 #pragma GCC unroll 16
-    for (int k = std::min(kLen - 1, m - 1); k >= 1; --k) {
-      const T kk = static_cast<T>(k);
-      const auto i = static_cast<std::size_t>(k);
-      v[i] = ((u + kk) * v[i] + (mu - kk) * v[i - 1]) * inv;
+      for (int k = std::min(kLen - 1, m - 1); k >= 1; --k) {
+        const T kk = static_cast<T>(k);
+        const auto i = static_cast<std::size_t>(k);
+        v[i] = ((u + kk) * v[i] + (mu - kk) * v[i - 1]) * inv;
+      }
     }
     v[0] = u * v[0] * inv;
     if (m == N) {
