@@ -27,8 +27,10 @@ enum class Family {
   kDuboisPrade,  // xy / max(x, y, k), k in (0, 1]
   kWeber,        // max(0, (x + y + kxy - 1) / (1 + k)), k > -1
   kBezier,       // Li & Tian eq. 4, degree n >= 1
-  kLiTian,       // Li & Tian eq. 20, the shape-preserving AND_{n,delta}
-  kLiTianHat,    // Li & Tian eq. 21-25, hat-AND_{n,delta}
+  kLiTian,       // Li & Tian eq. 20, the shape-preserving AND_{n,delta} (*)
+  kLiTianHat,    // Li & Tian eq. 21-25, hat-AND_{n,delta} (*)
+  // (*) with the Coons corner term corrected so that the identity and dominance laws hold for
+  //     every delta > 0 (see logic_inl.hpp, impl::coons_min).
 };
 
 enum class Complement {
@@ -76,6 +78,12 @@ template <class T> T complement(Complement c, T x, T lambda);
 template <class T> Grad1<T> complement_grad(Complement c, T x, T lambda);  // dp = d/dlambda
 
 template <class T> T difference(Family f, Complement c, T x, T y, T p, int n, T lambda);
+template <class T>
+struct DifferenceGrad {
+  T v{}, dx{}, dy{}, dp{}, dlambda{};
+};
+template <class T>
+DifferenceGrad<T> difference_grad(Family f, Complement c, T x, T y, T p, int n, T lambda);
 
 // Block forms over contiguous arrays (structure of arrays), out[i] = op(x[i], y[i]).
 void tnorm_block(Family f, std::span<const float> x, std::span<const float> y, std::span<float> out,
@@ -128,3 +136,5 @@ std::array<double, 4> unified_weights_vjp(const std::array<double, 4>& logits, d
                                           double* dt = nullptr, double* domega = nullptr);
 
 }  // namespace fuzzycsg::logic
+
+#include "fuzzycsg/core/logic_inl.hpp"  // IWYU pragma: export

@@ -24,3 +24,5 @@ template <class T> T logistic(T x, T alpha);
 template <class T> logic::Grad1<T> logistic_grad(T x, T alpha);
 
 }  // namespace fuzzycsg::steps
+
+#include "fuzzycsg/core/steps_inl.hpp"  // IWYU pragma: export
