@@ -543,7 +543,8 @@ class Reader {
     node.shape.type = *t;
     const bool mlp = *t == PrimitiveType::kMlp;
 
-    for (const auto& [key, value] : v.items()) {
+    for (const auto& item : v.items()) {
+      const std::string& key = item.key();
       const bool known = key == "type" || key == "name" || key == "translate" || key == "rotate" ||
                          key == "scale" || key == "step" || key == "sharpness" ||
                          (mlp && key == "hidden") ||
