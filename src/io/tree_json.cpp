@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -90,14 +91,13 @@ class DocumentBuilder {
 
   Json document;
 
-  bool null() { return add(Json(nullptr)) != nullptr; }
-  bool boolean(bool v) { return add(Json(v)) != nullptr; }
-  bool number_integer(Json::number_integer_t v) { return add(Json(v)) != nullptr; }
-  bool number_unsigned(Json::number_unsigned_t v) { return add(Json(v)) != nullptr; }
-  bool number_float(Json::number_float_t v, const Json::string_t&) {
-    return add(Json(v)) != nullptr;
-  }
-  bool string(Json::string_t& v) { return add(Json(std::move(v))) != nullptr; }
+  // Each event returns true: parsing goes on, or an InputError ends it.
+  bool null() { return value(Json(nullptr)); }
+  bool boolean(bool v) { return value(Json(v)); }
+  bool number_integer(Json::number_integer_t v) { return value(Json(v)); }
+  bool number_unsigned(Json::number_unsigned_t v) { return value(Json(v)); }
+  bool number_float(Json::number_float_t v, const Json::string_t&) { return value(Json(v)); }
+  bool string(Json::string_t& v) { return value(Json(std::move(v))); }
   bool binary(Json::binary_t&) {
     throw InputError(std::string(source_) + ": binary values are not JSON");
   }
@@ -140,6 +140,11 @@ class DocumentBuilder {
     Json* value;
     std::string key;  // objects: the key of the member being read
   };
+
+  bool value(Json&& v) {
+    add(std::move(v));
+    return true;
+  }
 
   Json* add(Json&& v) {
     if (stack_.empty()) {
