@@ -2,6 +2,7 @@
 #include "fuzzycsg/io/points.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -69,7 +70,8 @@ TEST(Points, Errors) {
 }
 
 TEST(Points, Files) {
-  const fs::path dir = fs::temp_directory_path() / "fuzzycsg-points-test";
+  const fs::path dir =
+      fs::temp_directory_path() / ("fuzzycsg-points-test-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path file = dir / "pts.txt";

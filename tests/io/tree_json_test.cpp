@@ -2,6 +2,7 @@
 #include "fuzzycsg/io/tree_json.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
@@ -383,8 +384,7 @@ class TempDir {
  public:
   TempDir() {
     path_ = fs::temp_directory_path() /
-            ("fuzzycsg-tree-json-test-" +
-             std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+            ("fuzzycsg-tree-json-test-" + std::to_string(::getpid()) + "-" +
              ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(path_);
     fs::create_directories(path_);
