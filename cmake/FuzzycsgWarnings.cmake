@@ -12,6 +12,14 @@ if(FUZZYCSG_SANITIZE)
     -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(fuzzycsg_options INTERFACE -fsanitize=address,undefined)
 endif()
-# Internal invariants stay checked in Debug and sanitizer builds (FUZZYCSG_ASSERT).
+# The fuzz configuration (clang): every library is instrumented for libFuzzer's coverage and
+# built with ASan and UBSan; the fuzz targets themselves add -fsanitize=fuzzer (fuzz/).
+if(FUZZYCSG_BUILD_FUZZ)
+  target_compile_options(fuzzycsg_options INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all
+    -fno-omit-frame-pointer)
+  target_link_options(fuzzycsg_options INTERFACE -fsanitize=address,undefined)
+endif()
+# Internal invariants stay checked in Debug, sanitizer and fuzz builds (FUZZYCSG_ASSERT).
 target_compile_definitions(fuzzycsg_options INTERFACE
-  $<$<OR:$<CONFIG:Debug>,$<BOOL:${FUZZYCSG_SANITIZE}>>:FUZZYCSG_ENABLE_ASSERTS=1>)
+  $<$<OR:$<CONFIG:Debug>,$<BOOL:${FUZZYCSG_SANITIZE}>,$<BOOL:${FUZZYCSG_BUILD_FUZZ}>>:FUZZYCSG_ENABLE_ASSERTS=1>)
