@@ -37,7 +37,7 @@ cat >"$tmp/sphere.json" <<'JSON'
    {"type": "sphere", "radius": 0.5, "sharpness": 50},
    {"type": "box", "size": [0.2, 0.2, 2.0], "translate": [0.8, 0, 0], "sharpness": 50}]}}
 JSON
-printf '0 0 0\n# a comment\n\n0.9, 0.0, 0.0\n2 2 2\n' >"$tmp/pts.txt"
+printf '0 0 0\n# a comment\n\n0.8, 0.0, 0.0\n2 2 2\n' >"$tmp/pts.txt"
 
 # eval: one occupancy per line, in order.
 if "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" -o "$tmp/occ.txt" 2>"$tmp/err"; then

@@ -260,8 +260,8 @@ TEST(Tree, LeafChecks) {
   Node& mlp = b.node(b.tree.root);
   mlp.shape.hidden = {0};
   EXPECT_EQ(error_of(b.tree), "t: root.hidden[0]: must be in [1, 64] (got 0)");
-  mlp.shape.hidden = std::vector<int>(65, 1);
-  EXPECT_EQ(error_of(b.tree), "t: root.hidden: must have at most 64 layers (got 65)");
+  mlp.shape.hidden = std::vector<int>(9, 1);
+  EXPECT_EQ(error_of(b.tree), "t: root.hidden: must have at most 8 layers (got 9)");
   mlp.shape.hidden = {2};
   EXPECT_EQ(error_of(b.tree), "t: root.weights: needs 11 numbers for 1 hidden layers (got 4)");
 

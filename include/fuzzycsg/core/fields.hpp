@@ -31,8 +31,9 @@ inline constexpr FieldSpec kStepRange{"range",           Arity::kScalar, 1,
 inline constexpr Range kHnDegree = Range::closed(0, 16);
 
 // ---- MLP leaves: "hidden" layer widths (structure, not parameters)
-inline constexpr Range kMlpHiddenWidth = Range::closed(1, 64);
-inline constexpr int kMlpMaxHiddenLayers = 64;
+// The MLP evaluator's fixed scratch bounds these (primitives.hpp).
+inline constexpr Range kMlpHiddenWidth = Range::closed(1, kMlpMaxWidth);
+inline constexpr int kMlpMaxHiddenLayers = fuzzycsg::kMlpMaxHiddenLayers;
 inline constexpr std::array<int, 2> kMlpDefaultHidden{16, 16};
 
 // ---- polygon leaves
