@@ -9,11 +9,11 @@ Model: a full binary tree of P quadric leaves and P - 1 unified operators.
              c = softmax(sin(omega * logits) * t),  t = 1000, omega = 10             (eq. 21)
   loss       mean over points of (o_root - target)²
 Layout (what a tuned PyTorch implementation of the paper does): all leaves at once, monomials
-M [10, N] and the leaf matrix Q [P, 10] (sharpness folded in: (-s Q) @ M, one matmul and one
-sigmoid over [P, N]); then layer by layer, the [K, N] node values viewed as [K/2, 2, N] so that
-the two children of every node of the next layer are contiguous rows, each layer's operator
-written as two fused multiply-adds (B = x (a + g y) + b y with torch.addcmul). float32,
-contiguous, no Python loop over nodes; gradients of every parameter with torch.autograd.grad.
+M [10, N] and the leaf matrix Q [P, 10] (sharpness folded in: -s f = (-s Q) M over [P, N], as
+nine broadcast multiply-adds, or one matmul with --leaf matmul; then one sigmoid); then layer by
+layer, the [K, N] node values viewed as [K/2, 2, N] and split with unbind so that the two
+children of every node of the next layer are contiguous rows, each layer's operator written as
+two fused multiply-adds (B = x (a + g y) + b y with torch.addcmul). float32, contiguous, no Python loop over nodes; gradients of every parameter with torch.autograd.grad.
 
 Commands
   bench     time forward+backward (median of --reps after --warmup) for the P x N x threads
@@ -67,14 +67,30 @@ def unified_weights(logits, t, omega):
     return torch.softmax(torch.sin(_column(omega) * logits) * _column(t), dim=1)
 
 
-def tree_occupancy(M, Q, s, layers):
+def leaf_values(M, Q, s, leaf="elementwise"):
+    """-s f for every leaf and point, [P, N]: the sigmoid argument of o = 1 / (1 + exp(s f)).
+
+    "matmul": one (-s Q) @ M. "elementwise": the same sum as nine broadcast multiply-adds
+    (addcmul) over [P, N]; faster than the matmul where PyTorch links the reference BLAS
+    (K = 10 is far too small for a BLAS to shine anyway), and what the benchmark uses.
+    """
+    A = Q * (-s).unsqueeze(1)
+    if leaf == "matmul":
+        return A @ M
+    z = torch.addcmul(A[:, 9:10], A[:, 0:1], M[0])
+    for j in range(1, 9):
+        z = z.addcmul_(A[:, j:j + 1], M[j])
+    return z
+
+
+def tree_occupancy(M, Q, s, layers, leaf="elementwise"):
     """Root occupancy [N].
 
     M [10, N] monomials; Q [P, 10] leaf coefficients, leaves left to right; s [P] sharpness;
     layers: bottom-up list of (logits [K, 4], t, omega) with K = P/2, P/4, ..., 1, nodes left to
     right, where node k of a layer combines nodes 2k (x) and 2k + 1 (y) of the layer below.
     """
-    O = torch.sigmoid((Q * (-s).unsqueeze(1)) @ M)  # 1 / (1 + exp(s f)), [P, N]
+    O = torch.sigmoid(leaf_values(M, Q, s, leaf))  # 1 / (1 + exp(s f)), [P, N]
     for logits, t, omega in layers:
         c = unified_weights(logits, t, omega)
         k = c.shape[0]
@@ -117,19 +133,19 @@ class PaperModel:
     def parameters(self):
         return [self.Q, self.s, *self.logits]
 
-    def loss_and_grad(self, points, targets, chunk=0):
+    def loss_and_grad(self, points, targets, chunk=0, leaf="elementwise"):
         """MSE loss and the gradient of every parameter. chunk > 0 processes the points in
         slices of that size (the loss is a mean, so slice gradients add up to the full one)."""
         params = self.parameters()
         layers = [(l, TEMPERATURE, OMEGA) for l in self.logits]
         n = points.shape[0]
         if chunk <= 0 or chunk >= n:
-            loss = mse(tree_occupancy(monomials(points), self.Q, self.s, layers), targets)
+            loss = mse(tree_occupancy(monomials(points), self.Q, self.s, layers, leaf), targets)
             return loss, torch.autograd.grad(loss, params)
         total, grads = 0.0, None
         for i in range(0, n, chunk):
             p, t = points[i:i + chunk], targets[i:i + chunk]
-            o = tree_occupancy(monomials(p), self.Q, self.s, layers)
+            o = tree_occupancy(monomials(p), self.Q, self.s, layers, leaf)
             part = torch.sum((o - t) ** 2) / n
             g = torch.autograd.grad(part, params)
             grads = list(g) if grads is None else [a + b for a, b in zip(grads, g)]
@@ -158,18 +174,19 @@ def bench(args):
                     torch.set_num_interop_threads(1)
                     interop_set = True
                 for _ in range(args.warmup):
-                    model.loss_and_grad(points, targets, chunk)
+                    model.loss_and_grad(points, targets, chunk, args.leaf)
                 times = []
                 while len(times) < args.reps or (sum(times) < args.min_time and
                                                  len(times) < 1000):
                     t0 = time.perf_counter()
-                    loss, _ = model.loss_and_grad(points, targets, chunk)
+                    loss, _ = model.loss_and_grad(points, targets, chunk, args.leaf)
                     times.append(time.perf_counter() - t0)
                 med = statistics.median(times)
                 print(json.dumps({
                     "impl": "torch", "P": leaves, "N": n, "threads": threads,
                     "median_s": med, "leaf_points_per_s": leaves * n / med,
                     "reps": len(times), "min_s": min(times), "chunk": chunk or n,
+                    "leaf": args.leaf,
                     "loss": float(loss), "torch": torch.__version__,
                     "glibc_tunables": os.environ.get("GLIBC_TUNABLES", ""),
                 }), flush=True)
@@ -270,11 +287,13 @@ def selftest(_args):
     lg = [l.tolist() for l in model.logits]
     want = torch.tensor([_recursive_occupancy(p, Q, s, lg, 2.0, 3.0) for p in points.tolist()],
                         dtype=torch.float64)
-    err = (got - want).abs().max().item()
+    got_mm = tree_occupancy(monomials(points), model.Q, model.s, layers, "matmul")
+    err = max((got - want).abs().max().item(), (got_mm - want).abs().max().item())
     spread = (want.min().item(), want.max().item())
     passed = err < 1e-12
     ok &= passed
-    print(f"layered vs recursive occupancy (P=16, N=64, float64): max |diff| = {err:.2e}, "
+    print(f"layered (both leaf forms) vs recursive occupancy (P=16, N=64, float64): "
+          f"max |diff| = {err:.2e}, "
           f"occupancy range [{spread[0]:.3f}, {spread[1]:.3f}] -> {'ok' if passed else 'FAIL'}")
 
     small = PaperModel(4, seed=4, dtype=torch.float64)
@@ -321,6 +340,8 @@ def main(argv=None):
     b.add_argument("--chunk", type=int, default=-1,
                    help="points per slice; 0: all at once; -1 (default): about "
                         f"{AUTO_CHUNK_ELEMENTS} leaf-points per slice")
+    b.add_argument("--leaf", choices=("elementwise", "matmul"), default="elementwise",
+                   help="how the leaf layer computes s f (see leaf_values)")
     b.add_argument("--seed", type=int, default=1)
     g = sub.add_parser("grad", help="loss and gradient of a case file")
     g.add_argument("case")
