@@ -12,8 +12,7 @@
 # (build parallelism, default 2), CHECK (0: skip the cross-check against PyTorch autograd that
 # runs first when eval_bench builds), PYTHON (default /usr/bin/python3), TORCH_CHUNK (points per
 # slice of the PyTorch model, default: torch_model.py's), KEEP (directory to keep the raw JSON
-# lines in). If eval_bench cannot be built (evaluator not there yet) the fuzzycsg columns read
-# n/a and the rest still runs.
+# lines in).
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -39,8 +38,9 @@ fi
 cmake --build "$build" --target peak_bench -j"$JOBS" >/dev/null
 have_eval=1
 if ! cmake --build "$build" --target eval_bench -j"$JOBS" >"$raw/eval_build.log" 2>&1; then
-  have_eval=0
-  echo "note: eval_bench does not build yet (log: $raw/eval_build.log); fuzzycsg columns n/a" >&2
+  cat "$raw/eval_build.log" >&2
+  echo "error: eval_bench does not build" >&2
+  exit 1
 fi
 
 # --- machine --------------------------------------------------------------------------------

@@ -57,7 +57,8 @@ int run_demo(const DemoArgs& a) {
   std::vector<float> occupancy(n);
   const auto t0 = std::chrono::steady_clock::now();
   const double sum = evaluator.backward(params, points, Loss{}, grad, occupancy);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // The slice z = 0 (nearest grid layer), y down the page.
   fmt::print("Occupancy on the slice z = 0 (x across, y down; '#' > 0.9, '+' > 0.5, '.' > 0.1):\n");
@@ -94,8 +95,9 @@ int run_demo(const DemoArgs& a) {
     fmt::print("{:<34}{:>12.5f}{:>12.5f}\n", fmt::format("dV/d {}", row.name),
                grad[ref->index] * cell, row.analytic);
   }
-  fmt::print("\nThe integral of a soft occupancy (sharpness 80) matches the volume of the crisp\n"
-             "solid to within the sigmoid's blur, and one backward pass gives every derivative.\n");
+  fmt::print(
+      "\nThe integral of a soft occupancy (sharpness 80) matches the volume of the crisp\n"
+      "solid to within the sigmoid's blur, and one backward pass gives every derivative.\n");
   return 0;
 }
 
@@ -106,8 +108,7 @@ Verb register_demo(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("demo", "Evaluate a built-in example tree and its gradient");
   cmd->add_option("--resolution", args->resolution, "Grid cells per axis")
       ->check(CLI::Range(8, 512));
-  cmd->add_option("--threads", args->threads, "Threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--threads", args->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
   return {cmd, [args] { return run_demo(*args); }};
 }
 

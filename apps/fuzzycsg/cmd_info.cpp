@@ -21,7 +21,8 @@ struct InfoArgs {
 
 std::string operator_label(const Node& n) {
   std::string label(op_name(n.op));
-  if (n.op == OpKind::kComplement) return label + " (" + std::string(logic::complement_name(n.complement.kind)) + ")";
+  if (n.op == OpKind::kComplement)
+    return label + " (" + std::string(logic::complement_name(n.complement.kind)) + ")";
   if (n.op == OpKind::kUnified) return label + (n.unified_logits ? " (logits)" : " (c)");
   return label + " (" + std::string(logic::family_name(n.logic.family)) + ")";
 }

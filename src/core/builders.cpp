@@ -81,13 +81,12 @@ class Builder {
         n.intrinsic.push_back(param(name, v, false, f.range));
       }
     }
-    const bool isotropic = o_.family == PrimitiveType::kSphere ||
-                           o_.family == PrimitiveType::kCircle;
-    const bool anywhere = o_.family != PrimitiveType::kQuadric3 &&
-                          o_.family != PrimitiveType::kQuadric2 &&
-                          o_.family != PrimitiveType::kPlane &&
-                          o_.family != PrimitiveType::kHalfPlane &&
-                          o_.family != PrimitiveType::kMlp;
+    const bool isotropic =
+        o_.family == PrimitiveType::kSphere || o_.family == PrimitiveType::kCircle;
+    const bool anywhere =
+        o_.family != PrimitiveType::kQuadric3 && o_.family != PrimitiveType::kQuadric2 &&
+        o_.family != PrimitiveType::kPlane && o_.family != PrimitiveType::kHalfPlane &&
+        o_.family != PrimitiveType::kMlp;
     if (anywhere) {
       for (int i = 0; i < o_.dim; ++i) {
         n.placement.translate.push_back(
@@ -105,8 +104,8 @@ class Builder {
       }
     }
     n.step.kind = StepKind::kSigmoid;
-    n.step.param = param(path + ".sharpness", o_.sharpness.value_or(info.default_sharpness),
-                         false, Range::positive());
+    n.step.param = param(path + ".sharpness", o_.sharpness.value_or(info.default_sharpness), false,
+                         Range::positive());
     tree_.nodes.push_back(std::move(n));
     return static_cast<int>(tree_.nodes.size()) - 1;
   }

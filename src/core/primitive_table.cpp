@@ -57,9 +57,7 @@ const std::array<PrimitiveInfo, 16> kTable{{
 
 }  // namespace
 
-const PrimitiveInfo& primitive_info(PrimitiveType t) {
-  return kTable[static_cast<std::size_t>(t)];
-}
+const PrimitiveInfo& primitive_info(PrimitiveType t) { return kTable[static_cast<std::size_t>(t)]; }
 
 std::optional<PrimitiveType> primitive_from_name(std::string_view name, int dim) {
   for (const auto& info : kTable) {

@@ -176,9 +176,8 @@ void Program::prepare(std::span<const double> params, std::span<double> consts) 
         const auto& pl = node.placement;
         if (ins.has_rotate) {
           if (dim == 3) {
-            const auto r = placement::rotation_3d(params[pl.rotate[0].index],
-                                                  params[pl.rotate[1].index],
-                                                  params[pl.rotate[2].index]);
+            const auto r = placement::rotation_3d(
+                params[pl.rotate[0].index], params[pl.rotate[1].index], params[pl.rotate[2].index]);
             std::copy(r.begin(), r.end(), c + ins.rotate_at);
           } else {
             const auto r = placement::rotation_2d(params[pl.rotate[0].index]);
@@ -246,9 +245,9 @@ void Program::pullback(std::span<const double> params, std::span<const double> g
           if (dim == 3) {
             std::array<double, 9> gr{};
             std::copy(g + ins.rotate_at, g + ins.rotate_at + 9, gr.begin());
-            const auto ga = placement::rotation_3d_vjp(params[pl.rotate[0].index],
-                                                       params[pl.rotate[1].index],
-                                                       params[pl.rotate[2].index], gr);
+            const auto ga =
+                placement::rotation_3d_vjp(params[pl.rotate[0].index], params[pl.rotate[1].index],
+                                           params[pl.rotate[2].index], gr);
             for (int i = 0; i < 3; ++i) add_grad(tree_, grad, pl.rotate[i], ga[i]);
           } else {
             std::array<double, 4> gr{};
@@ -258,7 +257,8 @@ void Program::pullback(std::span<const double> params, std::span<const double> g
           }
         }
         if (ins.has_translate) {
-          for (int i = 0; i < dim; ++i) add_grad(tree_, grad, pl.translate[i], g[ins.translate_at + i]);
+          for (int i = 0; i < dim; ++i)
+            add_grad(tree_, grad, pl.translate[i], g[ins.translate_at + i]);
         }
         if (ins.has_scale) add_grad(tree_, grad, pl.scale, g[ins.scale_at]);
         if (ins.step != StepKind::kCrisp) add_grad(tree_, grad, node.step.param, g[ins.step_at]);
@@ -274,9 +274,9 @@ void Program::pullback(std::span<const double> params, std::span<const double> g
           std::array<double, 4> l{};
           for (int i = 0; i < 4; ++i) l[i] = params[node.unified[i].index];
           double gt = 0.0, gomega = 0.0;
-          const auto gl = logic::unified_weights_vjp(l, value_or(params, node.temperature, 1000.0),
-                                                     value_or(params, node.omega, 10.0), gw, &gt,
-                                                     &gomega);
+          const auto gl =
+              logic::unified_weights_vjp(l, value_or(params, node.temperature, 1000.0),
+                                         value_or(params, node.omega, 10.0), gw, &gt, &gomega);
           for (int i = 0; i < 4; ++i) add_grad(tree_, grad, node.unified[i], gl[i]);
           add_grad(tree_, grad, node.temperature, gt);
           add_grad(tree_, grad, node.omega, gomega);

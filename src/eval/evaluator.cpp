@@ -61,8 +61,9 @@ struct Evaluator::Impl {
 
   Impl(const Tree& tree, EvalOptions options)
       : program(Program::compile(tree)),
-        threads(options.threads > 0 ? options.threads
-                                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
+        threads(options.threads > 0
+                    ? options.threads
+                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
         arena(threads) {
     const auto tape = program.tape();
     shapes.resize(tape.size(), nullptr);
@@ -77,9 +78,8 @@ struct Evaluator::Impl {
   kernel::Scratch& local_scratch() const {
     auto& s = scratch.local();
     if (!s) {
-      s = std::make_unique<kernel::Scratch>(program.tape().size(),
-                                            static_cast<std::size_t>(program.max_stack_depth()),
-                                            max_theta);
+      s = std::make_unique<kernel::Scratch>(
+          program.tape().size(), static_cast<std::size_t>(program.max_stack_depth()), max_theta);
     }
     return *s;
   }
@@ -207,7 +207,8 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
     });
   });
   // Fixed-order reduction.
-  std::vector<double> grad_consts(chunk_grad.begin(), chunk_grad.begin() + static_cast<std::ptrdiff_t>(nc));
+  std::vector<double> grad_consts(chunk_grad.begin(),
+                                  chunk_grad.begin() + static_cast<std::ptrdiff_t>(nc));
   double total = chunk_loss[0];
   for (std::size_t c = 1; c < ch.chunks; ++c) {
     const double* g = chunk_grad.data() + c * nc;

@@ -8,9 +8,9 @@
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "eval/kernel.cpp"
+#include <hwy/contrib/math/math-inl.h>
 #include <hwy/foreach_target.h>  // must precede highway.h
 #include <hwy/highway.h>
-#include <hwy/contrib/math/math-inl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -265,9 +265,8 @@ void logic_forward(const Instruction& ins, const float* c, const float* x, const
         out[i] = logic::tconorm<float>(ins.family, x[i], y[i], c[0], ins.n);
         break;
       case LogicOp::kDifference:
-        out[i] = logic::tnorm<float>(ins.family, x[i],
-                                     logic::complement<float>(ins.complement, y[i], c[1]), c[0],
-                                     ins.n);
+        out[i] = logic::tnorm<float>(
+            ins.family, x[i], logic::complement<float>(ins.complement, y[i], c[1]), c[0], ins.n);
         break;
     }
   }
@@ -290,7 +289,8 @@ void logic_backward(const Instruction& ins, const float* c, const float* x, cons
 }
 
 void complement_forward(const Instruction& ins, const float* c, const float* x, float* out) {
-  for (std::size_t i = 0; i < kBlock; ++i) out[i] = logic::complement<float>(ins.complement, x[i], c[0]);
+  for (std::size_t i = 0; i < kBlock; ++i)
+    out[i] = logic::complement<float>(ins.complement, x[i], c[0]);
 }
 
 void complement_backward(const Instruction& ins, const float* c, const float* x, float* gx,

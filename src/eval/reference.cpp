@@ -71,10 +71,9 @@ double binary(const Ctx& cx, const Node& node, double x, double y) {
     case OpKind::kIntersection:
       return logic::tnorm(node.logic.family, x, y, p, n);
     case OpKind::kDifference:
-      return logic::tnorm(node.logic.family, x,
-                          logic::complement(node.complement.kind, y,
-                                            cx.get(node.complement.lambda, 0.0)),
-                          p, n);
+      return logic::tnorm(
+          node.logic.family, x,
+          logic::complement(node.complement.kind, y, cx.get(node.complement.lambda, 0.0)), p, n);
     case OpKind::kUnified: {
       std::array<double, 4> v{};
       for (int i = 0; i < 4; ++i) v[i] = cx.get(node.unified[i]);

@@ -24,7 +24,8 @@ TEST(Builders, FullBinaryTreeShapeAndParameters) {
     if (p.name.ends_with("sharpness") || p.fixed) continue;
     EXPECT_LE(std::abs(p.value), 0.5) << p.name;
   }
-  ASSERT_TRUE(t.params.find("root.children[0].children[1].children[0].children[0].coefficients[9]"));
+  ASSERT_TRUE(
+      t.params.find("root.children[0].children[1].children[0].children[0].coefficients[9]"));
   ASSERT_TRUE(t.params.find("root.logits[3]"));
 }
 

@@ -78,9 +78,9 @@ void check_tree(const Tree& tree, std::size_t n, std::uint64_t seed, std::size_t
     auto plus = params, minus = params;
     plus[k] += h;
     minus[k] -= h;
-    const double fd = (reference_mse(tree, plus, points, targets) -
-                       reference_mse(tree, minus, points, targets)) /
-                      (2 * h);
+    const double fd =
+        (reference_mse(tree, plus, points, targets) - reference_mse(tree, minus, points, targets)) /
+        (2 * h);
     EXPECT_NEAR(grad[k], fd, grad_tol * std::max(1e-2, scale)) << p.name;
   }
 }
@@ -108,8 +108,7 @@ TEST(Evaluator, FixedBooleanTreesMatchReference) {
 TEST(Evaluator, EveryPlacedFamilyMatchesReference) {
   for (PrimitiveType t : {PrimitiveType::kSphere, PrimitiveType::kBox, PrimitiveType::kCylinder,
                           PrimitiveType::kCone, PrimitiveType::kTorus, PrimitiveType::kCapsule,
-                          PrimitiveType::kEllipsoid, PrimitiveType::kPlane,
-                          PrimitiveType::kMlp}) {
+                          PrimitiveType::kEllipsoid, PrimitiveType::kPlane, PrimitiveType::kMlp}) {
     FullTreeOptions o;
     o.leaves = 4;
     o.family = t;
@@ -119,9 +118,9 @@ TEST(Evaluator, EveryPlacedFamilyMatchesReference) {
     SCOPED_TRACE(std::string(primitive_info(t).name));
     check_tree(make_full_binary_tree(o), 120, 21, t == PrimitiveType::kMlp ? 7 : 1);
   }
-  for (PrimitiveType t : {PrimitiveType::kCircle, PrimitiveType::kRectangle,
-                          PrimitiveType::kEllipse, PrimitiveType::kHalfPlane,
-                          PrimitiveType::kQuadric2}) {
+  for (PrimitiveType t :
+       {PrimitiveType::kCircle, PrimitiveType::kRectangle, PrimitiveType::kEllipse,
+        PrimitiveType::kHalfPlane, PrimitiveType::kQuadric2}) {
     FullTreeOptions o;
     o.dim = 2;
     o.leaves = 4;

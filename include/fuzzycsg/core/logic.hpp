@@ -69,15 +69,22 @@ struct Grad1 {
 
 // Intersection (t-norm or Li-Tian AND), union via De Morgan with the standard complement
 // S(x, y) = 1 - T(1 - x, 1 - y), difference x \ y = T(x, C(y)).
-template <class T> T tnorm(Family f, T x, T y, T p, int n);
-template <class T> Grad2<T> tnorm_grad(Family f, T x, T y, T p, int n);
-template <class T> T tconorm(Family f, T x, T y, T p, int n);
-template <class T> Grad2<T> tconorm_grad(Family f, T x, T y, T p, int n);
+template <class T>
+T tnorm(Family f, T x, T y, T p, int n);
+template <class T>
+Grad2<T> tnorm_grad(Family f, T x, T y, T p, int n);
+template <class T>
+T tconorm(Family f, T x, T y, T p, int n);
+template <class T>
+Grad2<T> tconorm_grad(Family f, T x, T y, T p, int n);
 
-template <class T> T complement(Complement c, T x, T lambda);
-template <class T> Grad1<T> complement_grad(Complement c, T x, T lambda);  // dp = d/dlambda
+template <class T>
+T complement(Complement c, T x, T lambda);
+template <class T>
+Grad1<T> complement_grad(Complement c, T x, T lambda);  // dp = d/dlambda
 
-template <class T> T difference(Family f, Complement c, T x, T y, T p, int n, T lambda);
+template <class T>
+T difference(Family f, Complement c, T x, T y, T p, int n, T lambda);
 template <class T>
 struct DifferenceGrad {
   T v{}, dx{}, dy{}, dp{}, dlambda{};
@@ -93,39 +100,59 @@ void tconorm_block(Family f, std::span<const float> x, std::span<const float> y,
 
 // ---- Li & Tian building blocks (all with derivatives wrt x and, where present, delta) ----
 // Bézier operator B_n (eq. 4).
-template <class T> T bezier(int n, T x, T y);
-template <class T> Grad2<T> bezier_grad(int n, T x, T y);
+template <class T>
+T bezier(int n, T x, T y);
+template <class T>
+Grad2<T> bezier_grad(int n, T x, T y);
 // Upper smooth absolute value |x|_n (eq. 8) and |x|_{n,delta} (eq. 9).
-template <class T> T upper_abs(int n, T x);
-template <class T> Grad1<T> upper_abs_grad(int n, T x);
-template <class T> T upper_abs(int n, T x, T delta);
-template <class T> Grad1<T> upper_abs_grad(int n, T x, T delta);  // dp = d/ddelta
+template <class T>
+T upper_abs(int n, T x);
+template <class T>
+Grad1<T> upper_abs_grad(int n, T x);
+template <class T>
+T upper_abs(int n, T x, T delta);
+template <class T>
+Grad1<T> upper_abs_grad(int n, T x, T delta);  // dp = d/ddelta
 // Lower smooth absolute value hat|x|_n (eq. 10) and hat|x|_{n,delta} (eq. 11).
-template <class T> T lower_abs(int n, T x);
-template <class T> Grad1<T> lower_abs_grad(int n, T x);
-template <class T> T lower_abs(int n, T x, T delta);
-template <class T> Grad1<T> lower_abs_grad(int n, T x, T delta);
+template <class T>
+T lower_abs(int n, T x);
+template <class T>
+Grad1<T> lower_abs_grad(int n, T x);
+template <class T>
+T lower_abs(int n, T x, T delta);
+template <class T>
+Grad1<T> lower_abs_grad(int n, T x, T delta);
 // Smooth minima min_{n,delta} (eq. 12, from the upper abs) and hat-min_{n,delta} (eq. 13).
-template <class T> T smooth_min(int n, T x, T y, T delta);
-template <class T> Grad2<T> smooth_min_grad(int n, T x, T y, T delta);
-template <class T> T smooth_min_hat(int n, T x, T y, T delta);
-template <class T> Grad2<T> smooth_min_hat_grad(int n, T x, T y, T delta);
+template <class T>
+T smooth_min(int n, T x, T y, T delta);
+template <class T>
+Grad2<T> smooth_min_grad(int n, T x, T y, T delta);
+template <class T>
+T smooth_min_hat(int n, T x, T y, T delta);
+template <class T>
+Grad2<T> smooth_min_hat_grad(int n, T x, T y, T delta);
 // Shape-preserving operators AND_{n,delta} (eq. 14-20) and hat-AND_{n,delta} (eq. 21-25).
-template <class T> T li_tian_and(int n, T x, T y, T delta);
-template <class T> Grad2<T> li_tian_and_grad(int n, T x, T y, T delta);
-template <class T> T li_tian_hat_and(int n, T x, T y, T delta);
-template <class T> Grad2<T> li_tian_hat_and_grad(int n, T x, T y, T delta);
+template <class T>
+T li_tian_and(int n, T x, T y, T delta);
+template <class T>
+Grad2<T> li_tian_and_grad(int n, T x, T y, T delta);
+template <class T>
+T li_tian_hat_and(int n, T x, T y, T delta);
+template <class T>
+Grad2<T> li_tian_hat_and_grad(int n, T x, T y, T delta);
 
 // ---- The unified operator of Liu et al. 2024 ----
 // B_c(x, y) = (c1 + c2) x + (c1 + c3) y + (c0 - c1 - c2 - c3) x y   (eq. 12)
 // c0 intersection, c1 union, c2 x \ y, c3 y \ x.
-template <class T> T unified(const std::array<T, 4>& c, T x, T y);
+template <class T>
+T unified(const std::array<T, 4>& c, T x, T y);
 template <class T>
 struct UnifiedGrad {
   T v{}, dx{}, dy{};
   std::array<T, 4> dc{};
 };
-template <class T> UnifiedGrad<T> unified_grad(const std::array<T, 4>& c, T x, T y);
+template <class T>
+UnifiedGrad<T> unified_grad(const std::array<T, 4>& c, T x, T y);
 
 // c = softmax(sin(omega * logits) * t)   (eq. 21)
 std::array<double, 4> unified_weights(const std::array<double, 4>& logits, double t, double omega);

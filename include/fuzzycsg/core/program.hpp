@@ -34,9 +34,9 @@ enum class BilinearSource : std::uint8_t {
 
 struct Instruction {
   OpCode code = OpCode::kLeaf;
-  int node = -1;               // the tree node this instruction evaluates (or folds)
-  int left = -1, right = -1;   // input slots
-  std::uint32_t consts = 0;    // offset of this instruction's constants
+  int node = -1;              // the tree node this instruction evaluates (or folds)
+  int left = -1, right = -1;  // input slots
+  std::uint32_t consts = 0;   // offset of this instruction's constants
   std::uint32_t num_consts = 0;
 
   // kLeaf, kLeafQuadric3

@@ -58,8 +58,8 @@ std::optional<OpKind> op_from_name(std::string_view name);
 
 struct Step {
   StepKind kind = StepKind::kSigmoid;
-  int n = 0;                     // kHn: the degree
-  std::optional<ParamRef> param; // kSigmoid: sharpness s; kHn: range R; kCrisp: none
+  int n = 0;                      // kHn: the degree
+  std::optional<ParamRef> param;  // kSigmoid: sharpness s; kHn: range R; kCrisp: none
 };
 
 struct Placement {
@@ -85,19 +85,19 @@ struct Node {
   std::string name;  // optional label ("name" in the file)
 
   // --- primitives
-  PrimitiveShape shape;              // shape.type is the family
-  std::vector<ParamRef> intrinsic;   // the family's fields, flattened in schema order
+  PrimitiveShape shape;             // shape.type is the family
+  std::vector<ParamRef> intrinsic;  // the family's fields, flattened in schema order
   Placement placement;
   Step step;
 
   // --- operators
   OpKind op = OpKind::kUnion;
-  LogicSpec logic;                   // union / intersection / difference
-  ComplementSpec complement;         // complement nodes, and the C of a difference
-  bool unified_logits = false;       // kUnified: weights given as logits (else barycentric c)
-  std::vector<ParamRef> unified;     // kUnified: c[4] or logits[4]
+  LogicSpec logic;                // union / intersection / difference
+  ComplementSpec complement;      // complement nodes, and the C of a difference
+  bool unified_logits = false;    // kUnified: weights given as logits (else barycentric c)
+  std::vector<ParamRef> unified;  // kUnified: c[4] or logits[4]
   std::optional<ParamRef> temperature, omega;  // kUnified with logits
-  std::vector<int> children;         // indices into Tree::nodes
+  std::vector<int> children;                   // indices into Tree::nodes
 };
 
 struct Domain {
