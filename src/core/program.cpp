@@ -18,15 +18,6 @@ double value_or(std::span<const double> params, const std::optional<ParamRef>& r
   return r ? params[r->index] : dflt;
 }
 
-void add_grad(const Tree& tree, std::span<double> grad, ParamRef r, double g) {
-  if (!tree.params[r].fixed) grad[r.index] += g;
-}
-
-void add_grad(const Tree& tree, std::span<double> grad, const std::optional<ParamRef>& r,
-              double g) {
-  if (r) add_grad(tree, grad, *r, g);
-}
-
 }  // namespace
 
 Program Program::compile(const Tree& tree) {
@@ -157,13 +148,17 @@ Program Program::compile(const Tree& tree) {
     max_depth = std::max(max_depth, depth);
   }
   prog.max_stack_ = max_depth;
+  prog.count_refs();
   return prog;
 }
 
-void Program::prepare(std::span<const double> params, std::span<double> consts) const {
+void Program::prepare(std::span<const double> params, std::span<double> consts, std::size_t begin,
+                      std::size_t end) const {
   FUZZYCSG_ASSERT(params.size() == num_params() && consts.size() == num_consts_);
   const int dim = tree_.dim;
-  for (const Instruction& ins : tape_) {
+  end = std::min(end, tape_.size());
+  for (std::size_t k = begin; k < end; ++k) {
+    const Instruction& ins = tape_[k];
     const Node& node = tree_.node(ins.node);
     double* c = consts.data() + ins.consts;
     switch (ins.code) {
@@ -226,20 +221,20 @@ void Program::prepare(std::span<const double> params, std::span<double> consts) 
   }
 }
 
-void Program::pullback(std::span<const double> params, std::span<const double> grad_consts,
-                       std::span<double> grad) const {
-  FUZZYCSG_ASSERT(params.size() == num_params() && grad.size() == num_params());
+template <class Sink>
+void Program::pullback_instruction(const Instruction& ins, std::span<const double> params,
+                                   std::span<const double> grad_consts, Sink& sink) const {
   const int dim = tree_.dim;
-  for (const Instruction& ins : tape_) {
+  {
     const Node& node = tree_.node(ins.node);
     const double* g = grad_consts.data() + ins.consts;
     switch (ins.code) {
       case OpCode::kLeafQuadric3:
-        for (int i = 0; i < 10; ++i) add_grad(tree_, grad, node.intrinsic[i], g[i]);
-        add_grad(tree_, grad, node.step.param, g[10]);
+        for (int i = 0; i < 10; ++i) sink(node.intrinsic[i], g[i]);
+        sink(node.step.param, g[10]);
         break;
       case OpCode::kLeaf: {
-        for (int i = 0; i < ins.num_theta; ++i) add_grad(tree_, grad, node.intrinsic[i], g[i]);
+        for (int i = 0; i < ins.num_theta; ++i) sink(node.intrinsic[i], g[i]);
         const auto& pl = node.placement;
         if (ins.has_rotate) {
           if (dim == 3) {
@@ -248,20 +243,18 @@ void Program::pullback(std::span<const double> params, std::span<const double> g
             const auto ga =
                 placement::rotation_3d_vjp(params[pl.rotate[0].index], params[pl.rotate[1].index],
                                            params[pl.rotate[2].index], gr);
-            for (int i = 0; i < 3; ++i) add_grad(tree_, grad, pl.rotate[i], ga[i]);
+            for (int i = 0; i < 3; ++i) sink(pl.rotate[i], ga[i]);
           } else {
             std::array<double, 4> gr{};
             std::copy(g + ins.rotate_at, g + ins.rotate_at + 4, gr.begin());
-            add_grad(tree_, grad, pl.rotate[0],
-                     placement::rotation_2d_vjp(params[pl.rotate[0].index], gr));
+            sink(pl.rotate[0], placement::rotation_2d_vjp(params[pl.rotate[0].index], gr));
           }
         }
         if (ins.has_translate) {
-          for (int i = 0; i < dim; ++i)
-            add_grad(tree_, grad, pl.translate[i], g[ins.translate_at + i]);
+          for (int i = 0; i < dim; ++i) sink(pl.translate[i], g[ins.translate_at + i]);
         }
-        if (ins.has_scale) add_grad(tree_, grad, pl.scale, g[ins.scale_at]);
-        if (ins.step != StepKind::kCrisp) add_grad(tree_, grad, node.step.param, g[ins.step_at]);
+        if (ins.has_scale) sink(pl.scale, g[ins.scale_at]);
+        if (ins.step != StepKind::kCrisp) sink(node.step.param, g[ins.step_at]);
         break;
       }
       case OpCode::kBilinear: {
@@ -269,29 +262,84 @@ void Program::pullback(std::span<const double> params, std::span<const double> g
         // a = c1 + c2, b = c1 + c3, d = c0 - c1 - c2 - c3
         const std::array<double, 4> gw{g[2], g[0] + g[1] - g[2], g[0] - g[2], g[1] - g[2]};
         if (ins.bilinear == BilinearSource::kBarycentric) {
-          for (int i = 0; i < 4; ++i) add_grad(tree_, grad, node.unified[i], gw[i]);
+          for (int i = 0; i < 4; ++i) sink(node.unified[i], gw[i]);
         } else {
           std::array<double, 4> l{};
           for (int i = 0; i < 4; ++i) l[i] = params[node.unified[i].index];
           double gt = 0.0, gomega = 0.0;
-          const auto gl =
-              logic::unified_weights_vjp(l, value_or(params, node.temperature, 1000.0),
-                                         value_or(params, node.omega, 10.0), gw, &gt, &gomega);
-          for (int i = 0; i < 4; ++i) add_grad(tree_, grad, node.unified[i], gl[i]);
-          add_grad(tree_, grad, node.temperature, gt);
-          add_grad(tree_, grad, node.omega, gomega);
+          const bool free_t = node.temperature && !tree_.params[*node.temperature].fixed;
+          const bool free_omega = node.omega && !tree_.params[*node.omega].fixed;
+          const auto gl = logic::unified_weights_vjp(
+              l, value_or(params, node.temperature, 1000.0), value_or(params, node.omega, 10.0), gw,
+              free_t ? &gt : nullptr, free_omega ? &gomega : nullptr);
+          for (int i = 0; i < 4; ++i) sink(node.unified[i], gl[i]);
+          sink(node.temperature, gt);
+          sink(node.omega, gomega);
         }
         break;
       }
       case OpCode::kLogic:
-        add_grad(tree_, grad, node.logic.p, g[0]);
-        add_grad(tree_, grad, node.complement.lambda, g[1]);
+        sink(node.logic.p, g[0]);
+        sink(node.complement.lambda, g[1]);
         break;
       case OpCode::kComplement:
-        add_grad(tree_, grad, node.complement.lambda, g[0]);
+        sink(node.complement.lambda, g[0]);
         break;
     }
   }
+}
+
+namespace {
+
+// Where pullback_instruction sends d loss / d parameter: counted, recorded, or added.
+struct CountSink {
+  std::uint32_t n = 0;
+  void operator()(ParamRef, double) { ++n; }
+  void operator()(const std::optional<ParamRef>& r, double) { n += r ? 1 : 0; }
+};
+struct RecordSink {
+  RefGrad* out;
+  void operator()(ParamRef r, double g) { *out++ = {r.index, g}; }
+  void operator()(const std::optional<ParamRef>& r, double g) {
+    if (r) (*this)(*r, g);
+  }
+};
+
+}  // namespace
+
+void Program::count_refs() {
+  ref_offsets_.assign(tape_.size() + 1, 0);
+  const std::vector<double> params(num_params(), 0.0);
+  const std::vector<double> g(num_consts_, 0.0);
+  for (std::size_t k = 0; k < tape_.size(); ++k) {
+    CountSink c;
+    pullback_instruction(tape_[k], params, g, c);
+    ref_offsets_[k + 1] = ref_offsets_[k] + c.n;
+  }
+}
+
+void Program::pullback_local(std::span<const double> params, std::span<const double> grad_consts,
+                             std::span<RefGrad> out, std::size_t begin, std::size_t end) const {
+  FUZZYCSG_ASSERT(out.size() == num_ref_grads() && end <= tape_.size());
+  for (std::size_t k = begin; k < end; ++k) {
+    RecordSink r{out.data() + ref_offsets_[k]};
+    pullback_instruction(tape_[k], params, grad_consts, r);
+    FUZZYCSG_ASSERT(r.out == out.data() + ref_offsets_[k + 1]);
+  }
+}
+
+void Program::scatter(std::span<const RefGrad> ref_grads, std::span<double> grad) const {
+  for (const RefGrad& rg : ref_grads) {
+    if (!tree_.params.at(rg.index).fixed) grad[rg.index] += rg.value;
+  }
+}
+
+void Program::pullback(std::span<const double> params, std::span<const double> grad_consts,
+                       std::span<double> grad) const {
+  FUZZYCSG_ASSERT(params.size() == num_params() && grad.size() == num_params());
+  std::vector<RefGrad> rg(num_ref_grads());
+  pullback_local(params, grad_consts, rg, 0, tape_.size());
+  scatter(rg, grad);
 }
 
 }  // namespace fuzzycsg

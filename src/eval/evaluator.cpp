@@ -32,6 +32,8 @@ namespace {
 // (and so every result) does not depend on the thread count or on scheduling.
 constexpr std::size_t kMaxChunks = 32;
 constexpr std::size_t kMinBlocksPerChunk = 2;
+// Instructions per task when preparing constants and pulling gradients back to parameters.
+constexpr std::size_t kInstructionGrain = 256;
 
 struct Chunking {
   std::size_t blocks = 0, chunks = 0;
@@ -90,7 +92,11 @@ struct Evaluator::Impl {
                    " entries, expected " + std::to_string(program.num_params()));
     }
     std::vector<double> c(program.num_consts());
-    program.prepare(params, c);
+    const std::size_t tape = program.tape().size();
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tape, kInstructionGrain),
+                        [&](const auto& r) { program.prepare(params, c, r.begin(), r.end()); });
+    });
     return {c.begin(), c.end()};
   }
 
@@ -206,16 +212,27 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
       }
     });
   });
-  // Fixed-order reduction.
-  std::vector<double> grad_consts(chunk_grad.begin(),
-                                  chunk_grad.begin() + static_cast<std::ptrdiff_t>(nc));
-  double total = chunk_loss[0];
-  for (std::size_t c = 1; c < ch.chunks; ++c) {
-    const double* g = chunk_grad.data() + c * nc;
-    for (std::size_t k = 0; k < nc; ++k) grad_consts[k] += g[k];
-    total += chunk_loss[c];
-  }
-  im.program.pullback(params, grad_consts, grad);
+  // Reduction over chunks in chunk order (per constant, so it may run in parallel), then the
+  // pullback to parameters: per-instruction contributions in parallel, summed in tape order.
+  std::vector<double> grad_consts(nc);
+  std::vector<RefGrad> ref_grads(im.program.num_ref_grads());
+  const std::size_t tape = im.program.tape().size();
+  im.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nc, 4096), [&](const auto& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k) {
+        double sum = chunk_grad[k];
+        for (std::size_t c = 1; c < ch.chunks; ++c) sum += chunk_grad[c * nc + k];
+        grad_consts[k] = sum;
+      }
+    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tape, kInstructionGrain), [&](const auto& r) {
+          im.program.pullback_local(params, grad_consts, ref_grads, r.begin(), r.end());
+        });
+  });
+  im.program.scatter(ref_grads, grad);
+  double total = 0.0;
+  for (double l : chunk_loss) total += l;
   return loss.kind == Loss::Kind::kMse ? total * a.loss_scale : total;
 }
 

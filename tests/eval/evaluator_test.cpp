@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 #include <string>
 #include <vector>
@@ -296,6 +297,25 @@ TEST(Program, PostOrderTapeWithFoldedNaryNodes) {
   // A binary fold of k children takes k - 1 instructions; the root union has 5 children.
   EXPECT_EQ(prog.tape().size(),
             static_cast<std::size_t>(2 * count(tree).primitives - 1 + 1 /* complement */));
+}
+
+}  // namespace
+}  // namespace fuzzycsg
+
+namespace fuzzycsg {
+namespace {
+
+// Every example tree of the repository, kernel against reference.
+TEST(Evaluator, ExamplesMatchReference) {
+  const std::filesystem::path dir = std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "examples";
+  int seen = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    check_tree(io::read_tree_file(entry.path()), 150, 41, 1, 3e-3);
+    ++seen;
+  }
+  EXPECT_GE(seen, 5);
 }
 
 }  // namespace

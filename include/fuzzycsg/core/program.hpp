@@ -56,6 +56,13 @@ struct Instruction {
   logic::Complement complement = logic::Complement::kStandard;
 };
 
+// d loss / d parameter contributed by one instruction (before summing over instructions that
+// share the parameter).
+struct RefGrad {
+  std::uint32_t index = 0;
+  double value = 0.0;
+};
+
 class Program {
  public:
   // The tree must be valid (validate()).
@@ -71,14 +78,30 @@ class Program {
   int num_leaves() const { return num_leaves_; }
   bool has_quadric_fast_path() const { return has_quadric3_; }
 
-  // consts (size num_consts()) from the parameter vector (size num_params()).
-  void prepare(std::span<const double> params, std::span<double> consts) const;
+  // consts (size num_consts()) from the parameter vector (size num_params()), for the
+  // instructions [begin, end) (default: all). Ranges write disjoint constants, so they may run
+  // in parallel.
+  void prepare(std::span<const double> params, std::span<double> consts, std::size_t begin = 0,
+               std::size_t end = static_cast<std::size_t>(-1)) const;
   // grad_params += (d consts / d params)^T grad_consts. Fixed parameters receive nothing.
   void pullback(std::span<const double> params, std::span<const double> grad_consts,
                 std::span<double> grad_params) const;
+  // The same in two steps: per-instruction contributions for [begin, end) into `out` (size
+  // num_ref_grads(); ranges write disjoint entries, so they may run in parallel), then their
+  // sum in a fixed order.
+  std::size_t num_ref_grads() const { return ref_offsets_.empty() ? 0 : ref_offsets_.back(); }
+  void pullback_local(std::span<const double> params, std::span<const double> grad_consts,
+                      std::span<RefGrad> out, std::size_t begin, std::size_t end) const;
+  void scatter(std::span<const RefGrad> ref_grads, std::span<double> grad_params) const;
 
  private:
+  template <class Sink>
+  void pullback_instruction(const Instruction& ins, std::span<const double> params,
+                            std::span<const double> grad_consts, Sink& sink) const;
+  void count_refs();
+
   Tree tree_;
+  std::vector<std::uint32_t> ref_offsets_;  // per instruction, into the RefGrad list
   std::vector<Instruction> tape_;
   std::size_t num_consts_ = 0;
   int max_stack_ = 0;
