@@ -51,6 +51,12 @@ Chunking chunking(std::size_t n) {
 
 [[noreturn]] void bad_argument(const std::string& what) { throw InputError(what); }
 
+// The compile step trusts its input; a tree built in code is checked here first.
+Program compile_valid(const Tree& tree) {
+  validate(tree, "Evaluator");
+  return Program::compile(tree);
+}
+
 }  // namespace
 
 struct Evaluator::Impl {
@@ -62,7 +68,7 @@ struct Evaluator::Impl {
   mutable tbb::enumerable_thread_specific<std::unique_ptr<kernel::Scratch>> scratch;
 
   Impl(const Tree& tree, EvalOptions options)
-      : program(Program::compile(tree)),
+      : program(compile_valid(tree)),
         threads(options.threads > 0
                     ? options.threads
                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),

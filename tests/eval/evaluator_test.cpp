@@ -278,6 +278,16 @@ TEST(Evaluator, RejectsMismatchedSizes) {
   EXPECT_THROW(ev.backward(params, points, Loss{Loss::Kind::kMse, t3, zero_w}, grad), InputError);
 }
 
+TEST(Evaluator, RejectsInvalidTreesBuiltInCode) {
+  FullTreeOptions o;
+  o.leaves = 2;
+  Tree tree = make_full_binary_tree(o);
+  tree.nodes[static_cast<std::size_t>(tree.root)].children.pop_back();
+  EXPECT_THROW(Evaluator{tree}, InputError);
+  Tree empty;
+  EXPECT_THROW(Evaluator{empty}, InputError);
+}
+
 TEST(Program, PostOrderTapeWithFoldedNaryNodes) {
   const Tree tree = io::read_tree_string(kMixed, "mixed");
   const Program prog = Program::compile(tree);
