@@ -76,6 +76,22 @@ Grad gradient(const Instance& in, const Vec& p) {
   return g;
 }
 
+// f at x_i +- h and the central difference wrt input i (the point's coordinates first, then
+// theta).
+struct Difference {
+  double plus, minus, slope;
+};
+Difference central_difference(Instance& in, Vec& p, std::size_t i, double h) {
+  double& x = i < p.size() ? p[i] : in.theta[i - p.size()];
+  const double x0 = x;
+  x = x0 + h;
+  const double fp = value(in, p);
+  x = x0 - h;
+  const double fm = value(in, p);
+  x = x0;
+  return {fp, fm, (fp - fm) / (2 * h)};
+}
+
 double norm(const Vec& v) {
   double s = 0.0;
   for (double x : v) s += x * x;
@@ -721,14 +737,8 @@ bool check_against_finite_differences(Instance in, Vec p) {
   const std::size_t n_in = p.size() + in.theta.size();
   std::vector<double> fd(n_in);
   for (std::size_t i = 0; i < n_in; ++i) {
-    double& x = i < p.size() ? p[i] : in.theta[i - p.size()];
-    const double x0 = x;
-    x = x0 + h;
-    const double fp = value(in, p);
-    x = x0 - h;
-    const double fm = value(in, p);
-    x = x0;
-    fd[i] = (fp - fm) / (2 * h);
+    const auto [fp, fm, slope] = central_difference(in, p, i, h);
+    fd[i] = slope;
     // A slope that jumps inside [x - h, x + h] is a kink, not a gradient error.
     if (std::abs((fp - g.f) - (g.f - fm)) > 1e-2 * h * (1.0 + std::abs(fd[i]))) return false;
   }
@@ -816,15 +826,9 @@ TEST(PrimitiveGradients, MlpDeeperAndShallowerNetworks) {
     const Grad g = gradient(in, p);
     const double h = 1e-6;
     for (std::size_t i = 0; i < p.size() + w.size(); ++i) {
-      double& x = i < p.size() ? p[i] : in.theta[i - p.size()];
-      const double x0 = x;
-      x = x0 + h;
-      const double fp = value(in, p);
-      x = x0 - h;
-      const double fm = value(in, p);
-      x = x0;
       const double analytic = i < p.size() ? g.dp[i] : g.dtheta[i - p.size()];
-      EXPECT_NEAR(analytic, (fp - fm) / (2 * h), 1e-7) << hidden.size() << " layers, input " << i;
+      EXPECT_NEAR(analytic, central_difference(in, p, i, h).slope, 1e-7)
+          << hidden.size() << " layers, input " << i;
     }
   }
 }
