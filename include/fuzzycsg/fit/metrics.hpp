@@ -1,0 +1,34 @@
+#pragma once
+// How well a tree reproduces a target: the measures of Liu et al. 2024 (occupancy MSE on 2
+// million uniform points) plus IoU of the 0.5 level sets and, in 3D, the Chamfer distance.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/target/target.hpp"
+
+namespace fuzzycsg {
+
+struct MetricsOptions {
+  std::size_t points = 2'000'000;  // uniform in [-1, 1]^dim
+  std::uint64_t seed = 0;
+  int threads = 0;
+  bool chamfer = true;               // 3D only
+  int chamfer_resolution = 128;      // grid on which the tree's 0.5 level set is extracted
+  std::size_t chamfer_samples = 100'000;  // points drawn on the target's boundary
+};
+
+struct Metrics {
+  double mse = 0;  // mean (o_tree - o_target)^2 over the uniform points
+  double iou = 0;  // |{o_tree >= 0.5} & {target}| / |{o_tree >= 0.5} | {target}|
+  std::optional<double> chamfer;  // symmetric mean distance between the two boundaries
+  std::size_t points = 0;
+};
+
+Metrics measure(const Tree& tree, std::span<const double> params, const Target& target,
+                const MetricsOptions& options = {});
+
+}  // namespace fuzzycsg
