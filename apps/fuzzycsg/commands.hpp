@@ -3,6 +3,10 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
+
+#include "fuzzycsg/fit/fit.hpp"
 
 namespace fuzzycsg::app {
 
@@ -15,5 +19,25 @@ struct Verb {
 Verb register_eval(CLI::App& app);
 Verb register_info(CLI::App& app);
 Verb register_demo(CLI::App& app);
+Verb register_fit(CLI::App& app);
+Verb register_prune(CLI::App& app);
+
+// A fit as the fit verb runs it (the demo runs one too).
+struct FitJob {
+  std::string target, out_dir;
+  FitOptions options;
+  std::string family;  // --family as given ("" : quadric)
+  double padding = 0.2;
+  int image_resolution = 256;
+  long checkpoint_every = 1000;
+  bool resume = false, quiet = false, no_metrics = false;
+  bool iters_given = false, time_limit_given = false;
+  std::vector<std::string> given_model_flags;  // with --resume: model flags given (an error)
+  std::string command_line;
+};
+int run_fit_job(const FitJob& job);
+
+// The program's command line, joined with spaces (recorded in reports).
+std::string& command_line();
 
 }  // namespace fuzzycsg::app

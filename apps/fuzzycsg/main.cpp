@@ -8,18 +8,28 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 #include <new>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 
+std::string& fuzzycsg::app::command_line() {
+  static std::string line;
+  return line;
+}
+
 int main(int argc, char** argv) {
+  for (int i = 0; i < argc; ++i) {
+    fuzzycsg::app::command_line() += (i ? " " : "") + std::string(argv[i]);
+  }
   CLI::App app{"fuzzycsg: CSG trees with fuzzy booleans", "fuzzycsg"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fuzzycsg 0.1.0");
-  const std::vector<fuzzycsg::app::Verb> verbs{fuzzycsg::app::register_eval(app),
-                                               fuzzycsg::app::register_info(app),
-                                               fuzzycsg::app::register_demo(app)};
+  const std::vector<fuzzycsg::app::Verb> verbs{
+      fuzzycsg::app::register_eval(app), fuzzycsg::app::register_info(app),
+      fuzzycsg::app::register_demo(app), fuzzycsg::app::register_fit(app),
+      fuzzycsg::app::register_prune(app)};
 
   try {
     app.parse(argc, argv);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "fuzzycsg/core/error.hpp"
 
@@ -62,14 +63,16 @@ class Builder {
   }
 
   int leaf(const std::string& path) {
-    const PrimitiveInfo& info = primitive_info(o_.family);
+    const PrimitiveType family =
+        o_.families.empty() ? o_.family : o_.families[leaves_++ % o_.families.size()];
+    const PrimitiveInfo& info = primitive_info(family);
     Node n;
     n.kind = NodeKind::kPrimitive;
-    n.shape.type = o_.family;
-    if (o_.family == PrimitiveType::kPolygon) {
+    n.shape.type = family;
+    if (family == PrimitiveType::kPolygon) {
       throw InputError("make_full_binary_tree: the polygon family is not supported");
     }
-    if (o_.family == PrimitiveType::kMlp) n.shape.hidden = {16, 16};
+    if (family == PrimitiveType::kMlp) n.shape.hidden = {16, 16};
     for (const FieldSpec& f : info.fields) {
       int count = f.arity == Arity::kScalar ? 1 : f.length;
       if (f.arity == Arity::kList) count = mlp_weight_count(o_.dim, n.shape.hidden);
@@ -81,12 +84,10 @@ class Builder {
         n.intrinsic.push_back(param(name, v, false, f.range));
       }
     }
-    const bool isotropic =
-        o_.family == PrimitiveType::kSphere || o_.family == PrimitiveType::kCircle;
-    const bool anywhere =
-        o_.family != PrimitiveType::kQuadric3 && o_.family != PrimitiveType::kQuadric2 &&
-        o_.family != PrimitiveType::kPlane && o_.family != PrimitiveType::kHalfPlane &&
-        o_.family != PrimitiveType::kMlp;
+    const bool isotropic = family == PrimitiveType::kSphere || family == PrimitiveType::kCircle;
+    const bool anywhere = family != PrimitiveType::kQuadric3 &&
+                          family != PrimitiveType::kQuadric2 && family != PrimitiveType::kPlane &&
+                          family != PrimitiveType::kHalfPlane && family != PrimitiveType::kMlp;
     if (anywhere) {
       for (int i = 0; i < o_.dim; ++i) {
         n.placement.translate.push_back(
@@ -113,6 +114,7 @@ class Builder {
   const FullTreeOptions& o_;
   std::mt19937_64 rng_;
   Tree tree_;
+  std::size_t leaves_ = 0;
 };
 
 }  // namespace
@@ -126,10 +128,13 @@ Tree make_full_binary_tree(const FullTreeOptions& options) {
     throw InputError("make_full_binary_tree: leaves must be a power of two (got " +
                      std::to_string(options.leaves) + ")");
   }
-  if (primitive_info(options.family).dim != options.dim) {
-    throw InputError("make_full_binary_tree: family " +
-                     std::string(primitive_info(options.family).name) + " is not " +
-                     std::to_string(options.dim) + "D");
+  const std::vector<PrimitiveType> families =
+      options.families.empty() ? std::vector<PrimitiveType>{options.family} : options.families;
+  for (PrimitiveType family : families) {
+    if (primitive_info(family).dim != options.dim) {
+      throw InputError("make_full_binary_tree: family " + std::string(primitive_info(family).name) +
+                       " is not " + std::to_string(options.dim) + "D");
+    }
   }
   if (!(options.init_range > 0.0) || !std::isfinite(options.init_range)) {
     throw InputError("make_full_binary_tree: init_range must be > 0");

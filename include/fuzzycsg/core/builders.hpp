@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "fuzzycsg/core/tree.hpp"
 
@@ -19,6 +20,7 @@ struct FullTreeOptions {
   int dim = 3;
   int leaves = 64;  // a power of two
   PrimitiveType family = PrimitiveType::kQuadric3;
+  std::vector<PrimitiveType> families;  // when non-empty, leaf i is families[i % size] (a mix)
   OperatorMode ops = OperatorMode::kUnified;
   double init_range = 0.5;  // every free number drawn from U[-init_range, init_range] ...
   std::uint64_t seed = 0;

@@ -16,14 +16,14 @@ struct MetricsOptions {
   std::size_t points = 2'000'000;  // uniform in [-1, 1]^dim
   std::uint64_t seed = 0;
   int threads = 0;
-  bool chamfer = true;               // 3D only
-  int chamfer_resolution = 128;      // grid on which the tree's 0.5 level set is extracted
+  bool chamfer = true;                    // 3D only
+  int chamfer_resolution = 128;           // grid on which the tree's 0.5 level set is extracted
   std::size_t chamfer_samples = 100'000;  // points drawn on the target's boundary
 };
 
 struct Metrics {
-  double mse = 0;  // mean (o_tree - o_target)^2 over the uniform points
-  double iou = 0;  // |{o_tree >= 0.5} & {target}| / |{o_tree >= 0.5} | {target}|
+  double mse = 0;                 // mean (o_tree - o_target)^2 over the uniform points
+  double iou = 0;                 // |{o_tree >= 0.5} & {target}| / |{o_tree >= 0.5} | {target}|
   std::optional<double> chamfer;  // symmetric mean distance between the two boundaries
   std::size_t points = 0;
 };

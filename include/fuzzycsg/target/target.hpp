@@ -44,9 +44,9 @@ class Target {
 };
 
 struct TargetOptions {
-  double padding = 0.2;      // meshes: largest half-extent becomes 1 - padding (as Liu et al.)
+  double padding = 0.2;        // meshes: largest half-extent becomes 1 - padding (as Liu et al.)
   int image_resolution = 256;  // pictures: resampled to this square grid (0: native size)
-  int threads = 0;           // 0: all hardware threads
+  int threads = 0;             // 0: all hardware threads
 };
 
 // Reads a target; throws InputError with a one-line message naming the file on unreadable,

@@ -1,0 +1,126 @@
+#pragma once
+// Inverse CSG by gradient descent (Liu et al. 2024, §5.2 and App. A): a full binary tree of
+// P primitives with unified boolean operators B_c is fitted to a target's crisp occupancy by
+// Adam on the mean squared error, then snapped to crisp booleans and pruned.
+//
+// One deliberate departure from the letter of App. A, on by default: the temperature t of
+// c = softmax(sin(ω c̃) t) rises geometrically from `temperature_start` to `temperature` over
+// the first `temperature_ramp` fraction of the steps. At t = 1000 from the first step the
+// softmax is saturated, dL/dc̃ is ~0 for almost every operator, and the operator types chosen
+// by the random initialisation never change; with the ramp they are optimised, as the paper
+// intends. `temperature_ramp = 0` is the authors' release (t constant).
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fuzzycsg/core/builders.hpp"
+#include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/fit/metrics.hpp"
+#include "fuzzycsg/fit/prune.hpp"
+#include "fuzzycsg/target/target.hpp"
+
+namespace fuzzycsg {
+
+struct FitOptions {
+  // --- model
+  int prims = 64;                       // leaves of the full binary tree, a power of two
+  std::vector<PrimitiveType> families;  // leaf i is families[i % size]; empty: quadric of dim
+  OperatorMode ops = OperatorMode::kUnified;
+  double init_range = 0.5;      // parameters ~ U[-init_range, init_range] (App. A)
+  double temperature = 1000.0;  // t (the final value when ramped)
+  double temperature_start = 1.0;
+  double temperature_ramp = 0.5;  // fraction of `iters` over which t rises; 0: constant t
+  double omega = 10.0;
+  std::uint64_t seed = 0;
+
+  // --- optimisation
+  long iters = 10000;
+  int batch = 1024;
+  std::size_t pool = 0;     // points drawn at each resampling (0: batch); steps cycle through it
+  int resample_every = 10;  // steps between resamplings
+  double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, adam_eps = 1e-8;
+  SamplingOptions sampling;
+  int threads = 0;
+  double time_limit = 0;  // seconds of training, 0: none
+
+  // --- after training
+  double prune_threshold = 1e-3;
+  std::size_t prune_points = 65536;  // uniform points on which redundancy is judged
+  MetricsOptions metrics;
+  bool measure = true;
+};
+
+// Throws InputError naming the flag (as the program spells it) when a setting is out of range.
+void validate(const FitOptions& options, int dim);
+
+// A point of the loss curve: the mean training loss over the steps since the previous point.
+struct LossPoint {
+  long step = 0;  // steps done
+  double loss = 0;
+  double seconds = 0;  // training time when recorded
+};
+
+// The state that a checkpoint holds: enough to continue bit-identically.
+struct TrainState {
+  long step = 0;
+  std::vector<double> params;   // the tree's parameter table order
+  std::vector<double> m, v;     // Adam moments
+  std::string rng_at_resample;  // the sampler's state before the current pool was drawn
+  long pool_step = -1;          // step at which the current pool was drawn
+  std::vector<LossPoint> curve;
+  double loss_sum = 0;  // since the last curve point
+  long loss_count = 0;
+  double seconds = 0;  // training time so far
+};
+
+struct Progress {
+  long step = 0, iters = 0;
+  double loss = 0;  // recent mean
+  double steps_per_second = 0;
+  double seconds = 0;  // elapsed training time
+  double temperature = 0;
+  bool final = false;  // the last call
+};
+
+struct FitHooks {
+  std::function<void(const Progress&)> progress;  // called about every `progress_seconds`
+  double progress_seconds = 0.5;
+  // Called every `checkpoint_every` steps (and at the end) with the state to persist.
+  std::function<void(const Tree& model, const TrainState&)> checkpoint;
+  long checkpoint_every = 0;  // 0: never
+};
+
+enum class StopReason { kIterations, kTimeLimit, kNonFinite };
+std::string_view stop_reason_name(StopReason r);
+
+struct FitResult {
+  Tree trained;      // final parameters (unified operators at the final temperature)
+  Tree snapped;      // operators snapped to crisp booleans
+  Tree pruned;       // snapped and pruned
+  TrainState state;  // the final training state
+  StopReason stop = StopReason::kIterations;
+  long last_good_step = 0;    // kNonFinite: the step whose parameters are in `trained`
+  int operators_changed = 0;  // unified operators whose argmax type differs from the start
+  int operators_total = 0;
+  PruneReport prune;
+  std::optional<Metrics> metrics_trained, metrics_pruned;
+  double train_seconds = 0, prune_seconds = 0, metrics_seconds = 0;
+};
+
+// The initial model for a target of dimension `dim`.
+Tree make_initial_model(const FitOptions& options, int dim);
+
+// Temperature at a step (see the header comment).
+double temperature_at(const FitOptions& options, long step);
+
+// Runs the fit. `resume` continues from a checkpoint of the same model and options.
+FitResult fit(const Target& target, const FitOptions& options, const FitHooks& hooks = {},
+              const TrainState* resume = nullptr);
+
+}  // namespace fuzzycsg

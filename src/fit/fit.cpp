@@ -1,0 +1,378 @@
+#include "fuzzycsg/fit/fit.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <sstream>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/logic.hpp"
+#include "fuzzycsg/eval/evaluator.hpp"
+
+namespace fuzzycsg {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+[[noreturn]] void bad_flag(std::string_view flag, std::string_view what) {
+  throw InputError(fmt::format("{}: {}", flag, what));
+}
+
+// The sampler draws from its own stream so that changing the model's seed use does not shift
+// the training points (and vice versa).
+constexpr std::uint64_t kSamplerStream = 0x9e3779b97f4a7c15ULL;
+
+std::string save_rng(const Rng& rng) {
+  std::ostringstream s;
+  s << rng;
+  return s.str();
+}
+
+Rng load_rng(const std::string& text) {
+  Rng rng;
+  std::istringstream s(text);
+  s >> rng;
+  if (!s) throw InputError("checkpoint: state.rng: not a generator state");
+  return rng;
+}
+
+// Parameter indices of the unified operators' temperatures, which the schedule drives.
+std::vector<std::size_t> temperature_indices(const Tree& tree) {
+  std::vector<std::size_t> out;
+  for (const Node& n : tree.nodes) {
+    if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified && n.temperature) {
+      out.push_back(n.temperature->index);
+    }
+  }
+  return out;
+}
+
+// The boolean each unified operator currently selects: argmax of c, which for t > 0 is the
+// argmax of sin(omega * logits).
+std::vector<int> operator_types(const Tree& tree, std::span<const double> params) {
+  std::vector<int> out;
+  for (const Node& n : tree.nodes) {
+    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
+    std::array<double, 4> w{};
+    for (int i = 0; i < 4; ++i) w[i] = params[n.unified[i].index];
+    if (n.unified_logits) {
+      const double omega = n.omega ? params[n.omega->index] : 10.0;
+      for (double& x : w) x = std::sin(omega * x);
+    }
+    out.push_back(static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin()));
+  }
+  return out;
+}
+
+// Keeps a parameter inside its field's range after an Adam step (projected gradient). Open
+// bounds are kept a small relative distance inside.
+double project(double v, const Range& r) {
+  if (v < r.lo || (r.lo_open && v <= r.lo)) {
+    v = r.lo_open ? r.lo + std::max(1e-6, std::abs(r.lo) * 1e-6) : r.lo;
+  }
+  if (v > r.hi || (r.hi_open && v >= r.hi)) {
+    v = r.hi_open ? r.hi - std::max(1e-6, std::abs(r.hi) * 1e-6) : r.hi;
+  }
+  return v;
+}
+
+Tree with_values(Tree tree, std::span<const double> values) {
+  tree.params.set_values(values);
+  return tree;
+}
+
+}  // namespace
+
+std::string_view stop_reason_name(StopReason r) {
+  switch (r) {
+    case StopReason::kIterations:
+      return "iterations";
+    case StopReason::kTimeLimit:
+      return "time-limit";
+    case StopReason::kNonFinite:
+      return "non-finite-loss";
+  }
+  return "?";
+}
+
+void validate(const FitOptions& o, int dim) {
+  if (o.prims < 1 || o.prims > (1 << 16) || !std::has_single_bit(static_cast<unsigned>(o.prims))) {
+    bad_flag("--prims", fmt::format("must be a power of two in [1, 65536] (got {})", o.prims));
+  }
+  for (PrimitiveType f : o.families) {
+    const PrimitiveInfo& info = primitive_info(f);
+    if (info.dim != dim) {
+      bad_flag("--family", fmt::format("{} is a {}D primitive but the target is {}D", info.name,
+                                       info.dim, dim));
+    }
+    if (f == PrimitiveType::kPolygon) bad_flag("--family", "polygon cannot be fitted");
+  }
+  if (!(o.init_range > 0) || !std::isfinite(o.init_range)) {
+    bad_flag("--init-range", fmt::format("must be > 0 (got {})", o.init_range));
+  }
+  if (!(o.temperature > 0) || !std::isfinite(o.temperature)) {
+    bad_flag("--temperature", fmt::format("must be > 0 (got {})", o.temperature));
+  }
+  if (!(o.temperature_start > 0) || !std::isfinite(o.temperature_start)) {
+    bad_flag("--temperature-start", fmt::format("must be > 0 (got {})", o.temperature_start));
+  }
+  if (!(o.temperature_ramp >= 0 && o.temperature_ramp <= 1)) {
+    bad_flag("--temperature-ramp", fmt::format("must be in [0, 1] (got {})", o.temperature_ramp));
+  }
+  if (!std::isfinite(o.omega) || o.omega == 0) {
+    bad_flag("--omega", fmt::format("must be finite and non-zero (got {})", o.omega));
+  }
+  if (o.iters < 0) bad_flag("--iters", fmt::format("must be >= 0 (got {})", o.iters));
+  if (o.batch < 1 || o.batch > (1 << 24)) {
+    bad_flag("--batch", fmt::format("must be in [1, 16777216] (got {})", o.batch));
+  }
+  if (o.pool != 0 && (o.pool < static_cast<std::size_t>(o.batch) || o.pool > (1u << 26))) {
+    bad_flag("--pool", fmt::format("must be 0 or in [batch, 67108864] (got {})", o.pool));
+  }
+  if (o.resample_every < 1) {
+    bad_flag("--resample-every", fmt::format("must be >= 1 (got {})", o.resample_every));
+  }
+  if (!(o.lr > 0) || !std::isfinite(o.lr))
+    bad_flag("--lr", fmt::format("must be > 0 (got {})", o.lr));
+  if (!(o.beta1 >= 0 && o.beta1 < 1)) {
+    bad_flag("--beta1", fmt::format("must be in [0, 1) (got {})", o.beta1));
+  }
+  if (!(o.beta2 >= 0 && o.beta2 < 1)) {
+    bad_flag("--beta2", fmt::format("must be in [0, 1) (got {})", o.beta2));
+  }
+  if (!(o.adam_eps > 0) || !std::isfinite(o.adam_eps)) {
+    bad_flag("--adam-eps", fmt::format("must be > 0 (got {})", o.adam_eps));
+  }
+  const SamplingOptions& s = o.sampling;
+  if (!(s.surface >= 0 && s.near >= 0 && s.surface + s.near <= 1 + 1e-12)) {
+    bad_flag("--sampling",
+             fmt::format("fractions must be >= 0 with surface + near <= 1 (got {}, {})", s.surface,
+                         s.near));
+  }
+  if (!(s.near_distance >= 0) || !std::isfinite(s.near_distance)) {
+    bad_flag("--near-distance", fmt::format("must be >= 0 (got {})", s.near_distance));
+  }
+  if (o.threads < 0) bad_flag("--threads", fmt::format("must be >= 0 (got {})", o.threads));
+  if (!(o.time_limit >= 0) || !std::isfinite(o.time_limit)) {
+    bad_flag("--time-limit", fmt::format("must be >= 0 (got {})", o.time_limit));
+  }
+  if (!(o.prune_threshold >= 0) || !std::isfinite(o.prune_threshold)) {
+    bad_flag("--prune-threshold", fmt::format("must be >= 0 (got {})", o.prune_threshold));
+  }
+  if (o.prune_points < 1) bad_flag("--prune-points", "must be >= 1");
+  if (o.metrics.points < 1) bad_flag("--metric-points", "must be >= 1");
+}
+
+Tree make_initial_model(const FitOptions& o, int dim) {
+  FullTreeOptions t;
+  t.dim = dim;
+  t.leaves = o.prims;
+  t.family = dim == 3 ? PrimitiveType::kQuadric3 : PrimitiveType::kQuadric2;
+  t.families = o.families;
+  t.ops = o.ops;
+  t.init_range = o.init_range;
+  t.seed = o.seed;
+  t.temperature = o.temperature;
+  t.omega = o.omega;
+  return make_full_binary_tree(t);
+}
+
+double temperature_at(const FitOptions& o, long step) {
+  const double ramp_steps = o.temperature_ramp * static_cast<double>(o.iters);
+  if (ramp_steps <= 0 || static_cast<double>(step) >= ramp_steps) return o.temperature;
+  const double f = static_cast<double>(step) / ramp_steps;
+  return o.temperature_start * std::pow(o.temperature / o.temperature_start, f);
+}
+
+FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
+              const TrainState* resume) {
+  const int dim = target.dim();
+  validate(o, dim);
+  Tree model = make_initial_model(o, dim);
+  const Evaluator ev(model, EvalOptions{o.threads});
+  const std::size_t n = model.params.size();
+  const std::vector<double> initial = model.params.values();
+
+  TrainState st;
+  if (resume) {
+    st = *resume;
+    if (st.params.size() != n || st.m.size() != n || st.v.size() != n) {
+      throw InputError(
+          fmt::format("checkpoint: state.params: {} values, but the model has {} parameters",
+                      st.params.size(), n));
+    }
+  } else {
+    st.params = initial;
+    st.m.assign(n, 0.0);
+    st.v.assign(n, 0.0);
+  }
+
+  std::vector<char> free(n);
+  std::vector<Range> ranges(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    free[i] = !model.params.at(i).fixed;
+    ranges[i] = model.params.at(i).range;
+  }
+  const std::vector<std::size_t> temps = temperature_indices(model);
+  const std::size_t pool_size = o.pool ? o.pool : static_cast<std::size_t>(o.batch);
+  const std::size_t batch = static_cast<std::size_t>(o.batch);
+  const long curve_every = std::max(1L, o.iters / 1000);
+
+  Rng rng(o.seed ^ kSamplerStream);
+  SampleSet pool;
+  if (resume && st.pool_step >= 0) {
+    // Redraw the pool the interrupted run was using: same generator state, same points.
+    rng = load_rng(st.rng_at_resample);
+    pool = draw_samples(target, pool_size, o.sampling, rng);
+  }
+
+  std::vector<double> grad(n);
+  std::vector<float> points(batch * static_cast<std::size_t>(dim));
+  std::vector<float> labels(batch);
+  FitResult result;
+  const Clock::time_point start = Clock::now();
+  const double seconds_before = st.seconds;
+  Clock::time_point last_report = start;
+  long steps_at_report = st.step;
+  double report_loss_sum = 0;
+  long report_loss_count = 0;
+
+  auto report = [&](bool final) {
+    if (!hooks.progress) return;
+    const double dt = seconds_since(last_report);
+    Progress p;
+    p.step = st.step;
+    p.iters = o.iters;
+    p.loss = report_loss_count ? report_loss_sum / static_cast<double>(report_loss_count)
+                               : (st.curve.empty() ? 0.0 : st.curve.back().loss);
+    p.steps_per_second = dt > 0 ? static_cast<double>(st.step - steps_at_report) / dt : 0.0;
+    p.seconds = st.seconds;
+    p.temperature = temperature_at(o, st.step);
+    p.final = final;
+    hooks.progress(p);
+    last_report = Clock::now();
+    steps_at_report = st.step;
+    report_loss_sum = 0;
+    report_loss_count = 0;
+  };
+
+  result.stop = StopReason::kIterations;
+  while (st.step < o.iters) {
+    st.seconds = seconds_before + seconds_since(start);
+    if (o.time_limit > 0 && st.seconds >= o.time_limit) {
+      result.stop = StopReason::kTimeLimit;
+      break;
+    }
+    if (st.pool_step < 0 || st.step - st.pool_step >= o.resample_every) {
+      st.rng_at_resample = save_rng(rng);
+      st.pool_step = st.step;
+      pool = draw_samples(target, pool_size, o.sampling, rng);
+    }
+    // The batch: the next `batch` points of the pool, cycling.
+    const std::size_t offset =
+        (static_cast<std::size_t>(st.step - st.pool_step) * batch) % pool_size;
+    for (std::size_t i = 0; i < batch; ++i) {
+      const std::size_t j = (offset + i) % pool_size;
+      labels[i] = pool.occupancy[j];
+      for (int d = 0; d < dim; ++d) {
+        points[i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(d)] =
+            pool.points[j * static_cast<std::size_t>(dim) + static_cast<std::size_t>(d)];
+      }
+    }
+    const double t = temperature_at(o, st.step);
+    for (std::size_t i : temps) st.params[i] = t;
+
+    Loss loss_spec;
+    loss_spec.kind = Loss::Kind::kMse;
+    loss_spec.targets = labels;
+    const double loss = ev.backward(st.params, points, loss_spec, grad);
+    bool finite = std::isfinite(loss);
+    for (std::size_t i = 0; finite && i < n; ++i) finite = std::isfinite(grad[i]);
+    if (!finite) {
+      result.stop = StopReason::kNonFinite;
+      break;
+    }
+
+    // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam.
+    const double k = static_cast<double>(st.step + 1);
+    const double c1 = 1.0 - std::pow(o.beta1, k);
+    const double c2 = 1.0 - std::pow(o.beta2, k);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!free[i]) continue;
+      st.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * grad[i];
+      st.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * grad[i] * grad[i];
+      const double update = o.lr * (st.m[i] / c1) / (std::sqrt(st.v[i] / c2) + o.adam_eps);
+      st.params[i] = project(st.params[i] - update, ranges[i]);
+    }
+
+    ++st.step;
+    st.loss_sum += loss;
+    ++st.loss_count;
+    report_loss_sum += loss;
+    ++report_loss_count;
+    if (st.step % curve_every == 0 || st.step == o.iters) {
+      st.seconds = seconds_before + seconds_since(start);
+      st.curve.push_back({st.step, st.loss_sum / static_cast<double>(st.loss_count), st.seconds});
+      st.loss_sum = 0;
+      st.loss_count = 0;
+    }
+    if (hooks.checkpoint && hooks.checkpoint_every > 0 && st.step % hooks.checkpoint_every == 0) {
+      st.seconds = seconds_before + seconds_since(start);
+      hooks.checkpoint(model, st);
+    }
+    if (hooks.progress && seconds_since(last_report) >= hooks.progress_seconds) report(false);
+  }
+  st.seconds = seconds_before + seconds_since(start);
+  if (st.loss_count > 0) {
+    st.curve.push_back({st.step, st.loss_sum / static_cast<double>(st.loss_count), st.seconds});
+    st.loss_sum = 0;
+    st.loss_count = 0;
+  }
+  // The temperature the parameters were last trained at (the final one unless stopped early).
+  for (std::size_t i : temps) st.params[i] = temperature_at(o, std::max(0L, st.step - 1));
+  report(true);
+  result.last_good_step = st.step;
+  result.train_seconds = st.seconds;
+  if (hooks.checkpoint) hooks.checkpoint(model, st);
+
+  result.trained = with_values(model, st.params);
+  {
+    const std::vector<int> before = operator_types(model, initial);
+    const std::vector<int> after = operator_types(model, st.params);
+    result.operators_total = static_cast<int>(before.size());
+    for (std::size_t i = 0; i < before.size(); ++i) {
+      result.operators_changed += before[i] != after[i] ? 1 : 0;
+    }
+  }
+  result.state = std::move(st);
+  if (result.stop == StopReason::kNonFinite) return result;
+
+  Clock::time_point t0 = Clock::now();
+  result.snapped = snap_operators(result.trained);
+  Rng prune_rng(o.seed ^ (kSamplerStream * 3));
+  const std::vector<float> prune_points = uniform_points(dim, o.prune_points, prune_rng);
+  PruneOptions po;
+  po.threshold = o.prune_threshold;
+  po.threads = o.threads;
+  result.pruned = prune(result.snapped, prune_points, po, &result.prune);
+  result.prune_seconds = seconds_since(t0);
+
+  if (o.measure) {
+    t0 = Clock::now();
+    MetricsOptions mo = o.metrics;
+    mo.threads = o.threads;
+    result.metrics_trained = measure(result.trained, result.trained.params.values(), target, mo);
+    result.metrics_pruned = measure(result.pruned, result.pruned.params.values(), target, mo);
+    result.metrics_seconds = seconds_since(t0);
+  }
+  return result;
+}
+
+}  // namespace fuzzycsg
