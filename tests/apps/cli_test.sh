@@ -70,8 +70,72 @@ fi
 if "$bin" info "$tmp/sphere.json" | grep -qE "primitives +2" &&
     "$bin" info "$tmp/sphere.json" --json | grep -q '"dim": 3'; then ok; else bad "info"; fi
 
-# demo runs and reports the volume.
-if "$bin" demo --resolution 32 | grep -q "volume"; then ok; else bad "demo"; fi
+# demo --gradient evaluates and reports the volume; demo fits the built-in part.
+if "$bin" demo --gradient --resolution 32 | grep -q "volume"; then ok; else bad "demo --gradient"; fi
+if "$bin" demo -o "$tmp/demo" --iters 300 --prims 8 --threads 2 >"$tmp/demo.log" 2>&1 &&
+    [[ -s "$tmp/demo/tree.json" && -s "$tmp/demo/tree_pruned.json" && -s "$tmp/demo/report.json" &&
+       -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" ]]; then
+  ok
+else
+  bad "demo: $(tail -5 "$tmp/demo.log")"
+fi
+
+# fit: a 2D tree target, all outputs, the report's fields, the trees read back.
+cat >"$tmp/disc.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+ "root": {"op": "difference", "children": [
+   {"type": "circle", "radius": 0.6},
+   {"type": "rectangle", "size": [0.3, 0.3]}]}}
+JSON
+if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --prims 4 --iters 200 --batch 256 --lr 0.01 \
+      --metric-points 20000 --checkpoint-every 50 --threads 2 >"$tmp/fit.log" 2>&1; then
+  ok
+  for f in tree.json tree_pruned.json report.json loss.png target.png fit.png checkpoint.json; do
+    if [[ -s "$tmp/fit/$f" ]]; then ok; else bad "fit did not write $f"; fi
+  done
+  if grep -q '"stop": "iterations"' "$tmp/fit/report.json" && grep -q '"steps": 200' "$tmp/fit/report.json" &&
+      grep -q '"changed_type"' "$tmp/fit/report.json" && grep -q '"mse"' "$tmp/fit/report.json"; then
+    ok
+  else
+    bad "report.json fields: $(head -c 600 "$tmp/fit/report.json")"
+  fi
+  if "$bin" info "$tmp/fit/tree.json" >/dev/null && "$bin" info "$tmp/fit/tree_pruned.json" >/dev/null; then
+    ok
+  else
+    bad "fitted trees do not read back"
+  fi
+  # prune verb on the trained tree.
+  if "$bin" prune "$tmp/fit/tree.json" --target "$tmp/disc.json" -o "$tmp/pruned.json" \
+        --metric-points 20000 | grep -q "nodes" && "$bin" info "$tmp/pruned.json" >/dev/null; then
+    ok
+  else
+    bad "prune verb"
+  fi
+  # resume: continue the same fit to 300 steps.
+  if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --iters 300 --metric-points 20000 \
+        --threads 2 >"$tmp/resume.log" 2>&1 && grep -q '"steps": 300' "$tmp/fit/report.json"; then
+    ok
+  else
+    bad "resume: $(tail -3 "$tmp/resume.log")"
+  fi
+  expect_error "--prims: cannot change with --resume" \
+    "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --prims 8 -q
+else
+  bad "fit: $(tail -5 "$tmp/fit.log")"
+fi
+
+# fit: bad input.
+expect_error "--prims: must be a power of two" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --prims 6 -q
+expect_error "--lr: must be > 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --lr -1 -q
+expect_error "--family: unknown 2D primitive" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --family sphere -q
+expect_error "no-such-mesh.obj" "$bin" fit "$tmp/no-such-mesh.obj" -o "$tmp/f2" -q
+expect_error "cannot create output directory" "$bin" fit "$tmp/disc.json" -o "$tmp/sphere.json/sub" -q
+expect_error "checkpoint" "$bin" fit "$tmp/disc.json" -o "$tmp/f3" --resume -q
+printf 'not an image' >"$tmp/bad.png"
+expect_error "bad.png" "$bin" fit "$tmp/bad.png" -o "$tmp/f2" -q
+: >"$tmp/empty.off"
+expect_error "empty.off" "$bin" fit "$tmp/empty.off" -o "$tmp/f2" -q
+if [[ ! -e "$tmp/f2/tree.json" ]]; then ok; else bad "a failed fit wrote tree.json"; fi
 
 # Bad input: one line, exit 2, naming the file and the field.
 echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"
