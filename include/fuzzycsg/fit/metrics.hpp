@@ -1,6 +1,7 @@
 #pragma once
 // How well a tree reproduces a target: the measures of Liu et al. 2024 (occupancy MSE on 2
-// million uniform points) plus IoU of the 0.5 level sets and, in 3D, the Chamfer distance.
+// million uniform points) plus IoU of the 0.5 level sets and the Chamfer distance between the
+// tree's 0.5 level set and the target's boundary (2D and 3D).
 
 #include <cstddef>
 #include <cstdint>
@@ -16,15 +17,19 @@ struct MetricsOptions {
   std::size_t points = 2'000'000;  // uniform in [-1, 1]^dim
   std::uint64_t seed = 0;
   int threads = 0;
-  bool chamfer = true;                    // 3D only
+  bool chamfer = true;                    // 2D and 3D
   int chamfer_resolution = 128;           // grid on which the tree's 0.5 level set is extracted
   std::size_t chamfer_samples = 100'000;  // points drawn on the target's boundary
 };
 
 struct Metrics {
-  double mse = 0;                 // mean (o_tree - o_target)^2 over the uniform points
-  double iou = 0;                 // |{o_tree >= 0.5} & {target}| / |{o_tree >= 0.5} | {target}|
-  std::optional<double> chamfer;  // symmetric mean distance between the two boundaries
+  double mse = 0;  // mean (o_tree - o_target)^2 over the uniform points
+  double iou = 0;  // |{o_tree >= 0.5} & {target}| / |{o_tree >= 0.5} | {target}| (1 if both empty)
+  // Symmetric mean distance between the two boundaries: (mean over the tree's level-set points
+  // of the distance to the nearest target boundary sample + the converse) / 2. Absent when not
+  // asked for, or when the tree has no 0.5 level set inside [-1, 1]^dim (mse and iou are still
+  // reported).
+  std::optional<double> chamfer;
   std::size_t points = 0;
 };
 

@@ -15,12 +15,14 @@ namespace fuzzycsg {
 int snapped_operator(const Tree& tree, int node);
 
 // A copy of `tree` where every unified operator is replaced by product-logic union /
-// intersection / difference (children swapped for "right minus left"). Other nodes unchanged.
+// intersection / difference (children swapped for "right minus left"), which equals B_c where
+// c is one-hot. Other nodes are unchanged; the weights, temperatures and omegas are dropped from
+// the table, and parameter names follow the new node paths.
 Tree snap_operators(const Tree& tree);
 
 struct PruneOptions {
-  double threshold = 1e-3;  // mean squared occupancy difference below which a node is redundant
-  int threads = 0;
+  double threshold = 1e-3;  // mean squared occupancy difference up to which a node is redundant
+  int threads = 0;          // 0: all hardware threads
 };
 
 struct PruneReport {
@@ -28,12 +30,24 @@ struct PruneReport {
   int operators_before = 0, operators_after = 0;
 };
 
-// Removes redundant nodes of a tree without unified operators (snap first): an operator whose
-// output differs from one child's by less than the threshold (mean squared, over `points`)
-// is replaced by that child (the other child is W- or empty-redundant); a subtree whose output
-// is everywhere within the threshold of 0 (or 1) becomes empty (full) and is simplified away
-// by its parent. Parameters of removed nodes are dropped; the result is valid and its parameter
-// names follow the new node paths.
+// Removes redundant nodes of a tree without unified operators (snap first; throws Error
+// otherwise). Nodes are visited in post-order, each decided on its children as already pruned:
+// - a node (leaf or operator) whose output is within the threshold (mean squared, over
+//   `points`) of all 0 (all 1) becomes empty (full), and its parent simplifies it away:
+//   A | empty = A, A | full = full, A & full = A, A & empty = empty, A \ empty = A,
+//   A \ full = empty \ B = empty, full \ B = C(B) (a complement node with the difference's C),
+//   C(empty) = full, C(full) = empty;
+// - an operator whose output is within the threshold of one child's is replaced by the closer
+//   child (ties: the left one): the other child is W- or empty-redundant. An n-ary union or
+//   intersection drops, one at a time, the child whose removal changes its output least, while
+//   the output stays within the threshold of that with all its children.
+// Each removal is judged locally, so the changes of many add up: on large trees the pruned
+// output may differ from the original by a few times the threshold.
+// A whole tree that amounts to a constant becomes one crisp plane (half-plane in 2D) that is
+// exactly that constant over the domain and the points: a tree has at least one node, and no
+// leaf of a fuzzy tree need be close to 0 or 1. Parameters of removed nodes (and shared
+// parameters no surviving node uses) are dropped, values and fixed flags kept; the result is
+// valid and its parameter names follow the new node paths, as if written and read back.
 Tree prune(const Tree& tree, std::span<const float> points, const PruneOptions& options = {},
            PruneReport* report = nullptr);
 

@@ -1,0 +1,443 @@
+// Snapping unified operators to crisp booleans and pruning redundant nodes (Liu et al. 2024
+// App. A, after Tilove 1984).
+#include "fuzzycsg/fit/prune.hpp"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/logic.hpp"
+#include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
+
+namespace fuzzycsg {
+
+namespace {
+
+constexpr std::array<OpKind, 4> kSnapped = {OpKind::kIntersection, OpKind::kUnion,
+                                            OpKind::kDifference, OpKind::kDifference};
+
+// The nodes reachable from `root` (children are indices into `nodes`, parameters refer to
+// `source.params`) as a tree of their own whose table holds only the parameters they use, in
+// first-use order. Names are copied, so they are unique but may not follow the new paths.
+Tree extract(const Tree& source, const std::vector<Node>& nodes, int root) {
+  Tree out;
+  out.dim = source.dim;
+  out.domain = source.domain;
+  std::vector<int> order{root};  // breadth-first: a node's new index is its position here
+  std::vector<int> index(nodes.size(), -1);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    index[static_cast<std::size_t>(order[k])] = static_cast<int>(k);
+    const auto& children = nodes[static_cast<std::size_t>(order[k])].children;
+    order.insert(order.end(), children.begin(), children.end());
+  }
+  std::vector<std::optional<ParamRef>> moved(source.params.size());
+  const auto remap = [&](ParamRef& r) {
+    auto& m = moved.at(r.index);
+    if (!m) m = out.params.add(source.params[r]);
+    r = *m;
+  };
+  const auto remap_optional = [&](std::optional<ParamRef>& r) {
+    if (r) remap(*r);
+  };
+  out.nodes.reserve(order.size());
+  for (int i : order) {
+    Node n = nodes[static_cast<std::size_t>(i)];
+    for (int& c : n.children) c = index[static_cast<std::size_t>(c)];
+    for (auto* refs : {&n.intrinsic, &n.placement.translate, &n.placement.rotate, &n.unified}) {
+      for (ParamRef& r : *refs) remap(r);
+    }
+    for (auto* r : {&n.placement.scale, &n.step.param, &n.logic.p, &n.complement.lambda,
+                    &n.temperature, &n.omega}) {
+      remap_optional(*r);
+    }
+    out.nodes.push_back(std::move(n));
+  }
+  out.root = 0;
+  return out;
+}
+
+// Writing and reading back names every inline parameter by its node path and orders the table
+// as a tree file would be read (the writer reproduces values bit for bit).
+Tree canonical(const Tree& tree) {
+  return io::read_tree_string(io::write_tree_string(tree), "pruned tree");
+}
+
+// A tree that is exactly empty (or full) on the domain and at the points: one crisp plane
+// (half-plane in 2D), f = x - offset, with the offset beyond every coordinate in sight.
+Tree constant_tree(const Tree& source, std::span<const float> points, bool full) {
+  double extent = 1.0;
+  const Domain domain = source.domain_or_default();
+  for (std::size_t k = 0; k < static_cast<std::size_t>(source.dim); ++k) {
+    extent = std::max({extent, std::abs(domain.min[k]), std::abs(domain.max[k])});
+  }
+  for (float v : points) extent = std::max(extent, static_cast<double>(std::abs(v)));
+  Tree out;
+  out.dim = source.dim;
+  out.domain = source.domain;
+  Node n;
+  n.kind = NodeKind::kPrimitive;
+  n.shape.type = source.dim == 3 ? PrimitiveType::kPlane : PrimitiveType::kHalfPlane;
+  n.step.kind = StepKind::kCrisp;
+  for (const FieldSpec& field : primitive_info(n.shape.type).fields) {
+    for (int k = 0; k < field.length; ++k) {
+      const std::string name = std::string(field.name) + "[" + std::to_string(k) + "]";
+      // normal = (1, 0[, 0]); offset = +-2 extent: full is x < 2 extent, empty x < -2 extent.
+      double value = k == 0 ? 1.0 : 0.0;
+      if (field.arity == Arity::kScalar) value = full ? 2.0 * extent : -2.0 * extent;
+      n.intrinsic.push_back(out.params.add(Parameter{name, value, false, false, field.range}));
+    }
+  }
+  out.nodes.push_back(std::move(n));
+  out.root = 0;
+  return out;
+}
+
+int thread_count(int threads) {
+  return threads > 0 ? threads
+                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// Fixed chunks of points so that every sum is taken in the same order whatever the threads.
+constexpr std::size_t kChunk = 8192;
+
+// What a visited subtree became. Constants hold no values: parents simplify them away.
+struct Value {
+  enum class Kind { kEmpty, kFull, kLive };
+  Kind kind = Kind::kLive;
+  int node = -1;           // kLive: index into Pruner::built_
+  std::vector<float> out;  // kLive: occupancy at the points
+};
+
+Value constant(Value::Kind kind) { return Value{kind, -1, {}}; }
+
+class Pruner {
+ public:
+  Pruner(const Tree& tree, std::span<const float> points, const PruneOptions& options)
+      : tree_(tree),
+        points_(points),
+        n_(points.size() / static_cast<std::size_t>(tree.dim)),
+        threshold_(options.threshold),
+        threads_(thread_count(options.threads)),
+        arena_(threads_),
+        built_(tree.nodes) {}
+
+  Tree run() {
+    // Post-order: each operator is decided on the outputs of its children as already pruned,
+    // so every decision sees the current tree and each output is computed once.
+    std::vector<Value> values(tree_.nodes.size());
+    for (int i : post_order()) values[static_cast<std::size_t>(i)] = visit(i, values);
+    const Value& root = values[static_cast<std::size_t>(tree_.root)];
+    if (root.kind == Value::Kind::kLive) return canonical(extract(tree_, built_, root.node));
+    // A tree file needs a node. The leaf closest to the constant may be far from it (a fuzzy
+    // quadric is nowhere near 0 or 1), so the constant is written as one exactly.
+    return canonical(constant_tree(tree_, points_, root.kind == Value::Kind::kFull));
+  }
+
+ private:
+  std::vector<int> post_order() const {
+    std::vector<int> order;
+    std::vector<std::pair<int, bool>> stack{{tree_.root, false}};
+    while (!stack.empty()) {
+      const auto [i, expanded] = stack.back();
+      stack.pop_back();
+      if (expanded) {
+        order.push_back(i);
+        continue;
+      }
+      stack.emplace_back(i, true);
+      const auto& children = tree_.node(i).children;
+      for (auto it = children.rbegin(); it != children.rend(); ++it) stack.emplace_back(*it, false);
+    }
+    return order;
+  }
+
+  double param(const std::optional<ParamRef>& r) const { return r ? tree_.params[*r].value : 0.0; }
+
+  // f(begin, end) over fixed chunks of the points, in parallel.
+  template <class F>
+  void for_chunks(F&& f) const {
+    const std::size_t chunks = (n_ + kChunk - 1) / kChunk;
+    arena_.execute([&] {
+      tbb::parallel_for(std::size_t{0}, chunks,
+                        [&](std::size_t c) { f(c * kChunk, std::min(n_, (c + 1) * kChunk)); });
+    });
+  }
+
+  // Mean of g(i) over the points, summed chunk by chunk in order.
+  template <class G>
+  double mean(G&& g) const {
+    std::vector<double> partial((n_ + kChunk - 1) / kChunk, 0.0);
+    for_chunks([&](std::size_t b, std::size_t e) {
+      double s = 0.0;
+      for (std::size_t i = b; i < e; ++i) s += g(i);
+      partial[b / kChunk] = s;
+    });
+    double s = 0.0;
+    for (double v : partial) s += v;
+    return s / static_cast<double>(n_);
+  }
+
+  double mse(const std::vector<float>& a, const std::vector<float>& b) const {
+    return mean([&](std::size_t i) {
+      const double d = static_cast<double>(a[i]) - b[i];
+      return d * d;
+    });
+  }
+  double mse(const std::vector<float>& a, float c) const {
+    return mean([&](std::size_t i) {
+      const double d = static_cast<double>(a[i]) - c;
+      return d * d;
+    });
+  }
+
+  // The constant `out` is within the threshold of, if any.
+  std::optional<Value::Kind> near_constant(const std::vector<float>& out) const {
+    if (mse(out, 0.0f) <= threshold_) return Value::Kind::kEmpty;
+    if (mse(out, 1.0f) <= threshold_) return Value::Kind::kFull;
+    return std::nullopt;
+  }
+
+  // A live value for `node` (an index into built_) with output `out`, or the constant it is
+  // within the threshold of.
+  Value classify(int node, std::vector<float> out) const {
+    if (const auto c = near_constant(out)) return constant(*c);
+    return Value{Value::Kind::kLive, node, std::move(out)};
+  }
+
+  int add_node(Node n) {
+    built_.push_back(std::move(n));
+    return static_cast<int>(built_.size()) - 1;
+  }
+
+  Value visit(int i, std::vector<Value>& values) {
+    const Node& node = tree_.node(i);
+    if (node.kind == NodeKind::kPrimitive) return leaf(i);
+    std::vector<Value> children;
+    for (int c : node.children) children.push_back(std::move(values[static_cast<std::size_t>(c)]));
+    switch (node.op) {
+      case OpKind::kUnion:
+      case OpKind::kIntersection:
+        return fold(i, std::move(children));
+      case OpKind::kDifference:
+        return difference(i, std::move(children[0]), std::move(children[1]));
+      case OpKind::kComplement:
+        return complement(node.complement, std::move(children[0]), std::string(node.name));
+      case OpKind::kUnified:
+        break;  // rejected by prune() before any work
+    }
+    throw Error("prune: unexpected unified operator");
+  }
+
+  Value leaf(int i) {
+    const Tree one = extract(tree_, tree_.nodes, i);
+    const Evaluator evaluator(one, EvalOptions{threads_});
+    std::vector<float> out(n_);
+    evaluator.forward(one.params.values(), points_, out);
+    return classify(i, std::move(out));
+  }
+
+  // Left fold of an n-ary union or intersection over the given children's outputs.
+  std::vector<float> fold_outputs(const Node& node, const std::vector<const Value*>& live) const {
+    std::vector<float> out = live[0]->out;
+    const auto p = static_cast<float>(param(node.logic.p));
+    for (std::size_t k = 1; k < live.size(); ++k) {
+      const auto& y = live[k]->out;
+      for_chunks([&](std::size_t b, std::size_t e) {
+        const std::span<float> o(out.data() + b, e - b);
+        const std::span<const float> x(o), ys(y.data() + b, e - b);
+        if (node.op == OpKind::kUnion) {
+          logic::tconorm_block(node.logic.family, x, ys, o, p, node.logic.n);
+        } else {
+          logic::tnorm_block(node.logic.family, x, ys, o, p, node.logic.n);
+        }
+      });
+    }
+    return out;
+  }
+
+  // Union and intersection, n-ary. Constant children are simplified away; then, while a child
+  // can be dropped with the output staying within the threshold of the output with all of
+  // them, the one whose removal changes it least is dropped. For two children this replaces
+  // the node by the child closer to its output.
+  Value fold(int i, std::vector<Value> children) {
+    const Node& node = tree_.node(i);
+    const auto identity = node.op == OpKind::kUnion ? Value::Kind::kEmpty : Value::Kind::kFull;
+    const auto absorbing = node.op == OpKind::kUnion ? Value::Kind::kFull : Value::Kind::kEmpty;
+    std::vector<Value*> live;
+    for (Value& c : children) {
+      if (c.kind == absorbing) return constant(absorbing);
+      if (c.kind == Value::Kind::kLive) live.push_back(&c);
+    }
+    if (live.empty()) return constant(identity);
+    if (live.size() == 1) return std::move(*live[0]);
+
+    const std::vector<const Value*> all(live.begin(), live.end());
+    std::vector<float> full = fold_outputs(node, all);
+    if (const auto c = near_constant(full)) return constant(*c);
+    bool dropped = false;
+    while (live.size() > 1) {
+      std::size_t best = 0;
+      double best_error = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < live.size(); ++k) {
+        std::vector<const Value*> rest(live.begin(), live.end());
+        rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
+        const double e =
+            rest.size() == 1 ? mse(full, rest[0]->out) : mse(full, fold_outputs(node, rest));
+        // On a tie the later child goes: of two, the left one stays.
+        if (e <= best_error) best = k, best_error = e;
+      }
+      if (!(best_error <= threshold_)) break;
+      live.erase(live.begin() + static_cast<std::ptrdiff_t>(best));
+      dropped = true;
+    }
+    if (live.size() == 1) return std::move(*live[0]);
+    Node n = node;
+    n.children.clear();
+    for (const Value* c : live) n.children.push_back(c->node);
+    const int id = add_node(std::move(n));
+    if (!dropped) return Value{Value::Kind::kLive, id, std::move(full)};
+    return Value{Value::Kind::kLive, id, fold_outputs(node, {live.begin(), live.end()})};
+  }
+
+  // a \ b = T(a, C(b)): a \ empty = a, a \ full = empty \ b = empty, full \ b = C(b).
+  Value difference(int i, Value a, Value b) {
+    const Node& node = tree_.node(i);
+    if (a.kind == Value::Kind::kEmpty || b.kind == Value::Kind::kFull) {
+      return constant(Value::Kind::kEmpty);
+    }
+    if (b.kind == Value::Kind::kEmpty) return a;
+    if (a.kind == Value::Kind::kFull) return complement(node.complement, std::move(b), node.name);
+
+    std::vector<float> out(n_);
+    const auto p = static_cast<float>(param(node.logic.p));
+    const auto lambda = static_cast<float>(param(node.complement.lambda));
+    for_chunks([&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        out[k] = logic::difference(node.logic.family, node.complement.kind, a.out[k], b.out[k], p,
+                                   node.logic.n, lambda);
+      }
+    });
+    if (const auto c = near_constant(out)) return constant(*c);
+    // Compared with both children (ties to the left), as a union or intersection is.
+    const double ea = mse(out, a.out), eb = mse(out, b.out);
+    if (std::min(ea, eb) <= threshold_) return ea <= eb ? std::move(a) : std::move(b);
+    Node n = node;
+    n.children = {a.node, b.node};
+    return Value{Value::Kind::kLive, add_node(std::move(n)), std::move(out)};
+  }
+
+  // C(a); also what "full \ b" becomes, with the difference's complement. Every complement
+  // maps 0 to 1 and 1 to 0.
+  Value complement(const ComplementSpec& spec, Value a, std::string name) {
+    if (a.kind == Value::Kind::kEmpty) return constant(Value::Kind::kFull);
+    if (a.kind == Value::Kind::kFull) return constant(Value::Kind::kEmpty);
+    std::vector<float> out(n_);
+    const auto lambda = static_cast<float>(param(spec.lambda));
+    for_chunks([&](std::size_t begin, std::size_t end) {
+      for (std::size_t k = begin; k < end; ++k) {
+        out[k] = logic::complement(spec.kind, a.out[k], lambda);
+      }
+    });
+    Node n;
+    n.kind = NodeKind::kOperator;
+    n.op = OpKind::kComplement;
+    n.name = std::move(name);
+    n.complement = spec;
+    n.children = {a.node};
+    return classify(add_node(std::move(n)), std::move(out));
+  }
+
+  const Tree& tree_;
+  std::span<const float> points_;
+  std::size_t n_;
+  double threshold_;
+  int threads_;
+  mutable tbb::task_arena arena_;
+  // The original nodes followed by those pruning creates; survivors refer to these by index.
+  std::vector<Node> built_;
+};
+
+}  // namespace
+
+int snapped_operator(const Tree& tree, int node) {
+  if (node < 0 || static_cast<std::size_t>(node) >= tree.nodes.size()) {
+    throw Error("snapped_operator: node index " + std::to_string(node) + " is out of range");
+  }
+  const Node& n = tree.node(node);
+  if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified || n.unified.size() != 4) {
+    throw Error("snapped_operator: node " + std::to_string(node) + " is not a unified operator");
+  }
+  std::array<double, 4> c{};
+  for (std::size_t k = 0; k < 4; ++k) c[k] = tree.params.at(n.unified[k].index).value;
+  if (n.unified_logits) {
+    if (!n.temperature || !n.omega) {
+      throw Error("snapped_operator: node " + std::to_string(node) +
+                  " has logits but no temperature or omega");
+    }
+    c = logic::unified_weights(c, tree.params.at(n.temperature->index).value,
+                               tree.params.at(n.omega->index).value);
+  }
+  // max_element returns the first of equal maxima: ties go to the lowest index.
+  return static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
+}
+
+Tree snap_operators(const Tree& tree) {
+  validate(tree, "snap_operators");
+  std::vector<Node> nodes = tree.nodes;
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    Node& n = nodes[i];
+    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
+    const int k = snapped_operator(tree, static_cast<int>(i));
+    n.op = kSnapped[static_cast<std::size_t>(k)];
+    n.logic = LogicSpec{};  // product logic, standard complement: B_c at a one-hot c
+    n.complement = ComplementSpec{};
+    n.unified_logits = false;
+    n.unified.clear();
+    n.temperature.reset();
+    n.omega.reset();
+    if (k == 3) std::swap(n.children[0], n.children[1]);  // y \ x
+  }
+  // Weights, temperature and omega are no longer used: extract leaves them out.
+  return canonical(extract(tree, nodes, tree.root));
+}
+
+Tree prune(const Tree& tree, std::span<const float> points, const PruneOptions& options,
+           PruneReport* report) {
+  validate(tree, "prune");
+  const auto dim = static_cast<std::size_t>(tree.dim);
+  if (points.empty() || points.size() % dim != 0) {
+    throw InputError("prune: points has " + std::to_string(points.size()) +
+                     " floats, expected a positive multiple of dim " + std::to_string(dim));
+  }
+  if (!(options.threshold >= 0.0) || !std::isfinite(options.threshold)) {
+    throw InputError("prune: threshold must be finite and >= 0");
+  }
+  for (const Node& n : tree.nodes) {
+    if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified) {
+      throw Error("prune: the tree has unified operators; snap them first (snap_operators)");
+    }
+  }
+  Tree pruned = Pruner(tree, points, options).run();
+  if (report) {
+    const TreeCounts before = count(tree), after = count(pruned);
+    report->primitives_before = before.primitives;
+    report->operators_before = before.operators;
+    report->primitives_after = after.primitives;
+    report->operators_after = after.operators;
+  }
+  return pruned;
+}
+
+}  // namespace fuzzycsg
