@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/fit/fit.hpp"
 #include "fuzzycsg/fit/plot.hpp"
@@ -16,45 +18,13 @@
 namespace fuzzycsg {
 namespace {
 
-// A ball of radius r about c: exact occupancy and exact boundary samples.
-class BallTarget : public Target {
+// Labels every point NaN: a loss that becomes non-finite at the first step.
+class NanTarget : public testing::BallTarget {
  public:
-  BallTarget(int dim, double r, double cx = 0.0, float label_override = -1.0f)
-      : dim_(dim), r_(r), cx_(cx), label_(label_override) {}
-  int dim() const override { return dim_; }
-  std::string describe() const override { return "ball"; }
-  std::string kind() const override { return "test"; }
-  void occupancy(std::span<const float> p, std::span<float> out) const override {
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      double s = 0;
-      for (int d = 0; d < dim_; ++d) {
-        const double x = p[i * static_cast<std::size_t>(dim_) + static_cast<std::size_t>(d)] -
-                         (d == 0 ? cx_ : 0.0);
-        s += x * x;
-      }
-      out[i] = label_ >= 0 ? label_ : (s <= r_ * r_ ? 1.0f : 0.0f);
-    }
+  NanTarget() : BallTarget(3, {0, 0, 0}, 0.5) {}
+  void occupancy(std::span<const float>, std::span<float> out) const override {
+    std::fill(out.begin(), out.end(), std::numeric_limits<float>::quiet_NaN());
   }
-  void sample_boundary(std::size_t n, Rng& rng, std::vector<float>& points,
-                       std::vector<float>& normals) const override {
-    std::normal_distribution<double> g;
-    points.resize(n * static_cast<std::size_t>(dim_));
-    normals.resize(points.size());
-    for (std::size_t i = 0; i < n; ++i) {
-      double v[3] = {g(rng), g(rng), dim_ == 3 ? g(rng) : 0.0};
-      const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-      for (int d = 0; d < dim_; ++d) {
-        const std::size_t k = i * static_cast<std::size_t>(dim_) + static_cast<std::size_t>(d);
-        normals[k] = static_cast<float>(v[d] / len);
-        points[k] = static_cast<float>(r_ * v[d] / len + (d == 0 ? cx_ : 0.0));
-      }
-    }
-  }
-
- private:
-  int dim_;
-  double r_, cx_;
-  float label_;
 };
 
 FitOptions small_options() {
@@ -114,7 +84,7 @@ TEST(FitOptionsValidation, NamesTheFlag) {
 }
 
 TEST(Fit, LossFallsAndOperatorsAreCounted) {
-  const BallTarget target(3, 0.5);
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
   FitOptions o = small_options();
   const FitResult r = fit(target, o);
   ASSERT_EQ(r.stop, StopReason::kIterations);
@@ -146,7 +116,7 @@ TEST(Fit, LossFallsAndOperatorsAreCounted) {
 }
 
 TEST(Fit, SameSeedSameResultAnyThreads) {
-  const BallTarget target(2, 0.6, 0.1);
+  const testing::BallTarget target(2, {0.1, 0}, 0.6);
   FitOptions o = small_options();
   o.iters = 120;
   o.threads = 1;
@@ -160,7 +130,7 @@ TEST(Fit, SameSeedSameResultAnyThreads) {
 }
 
 TEST(Fit, ResumeFromACheckpointIsBitIdentical) {
-  const BallTarget target(3, 0.5);
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
   FitOptions o = small_options();
   o.iters = 200;
   o.pool = 1024;  // several batches per pool: the resumed run must redraw the same pool
@@ -201,7 +171,7 @@ TEST(Fit, ResumeFromACheckpointIsBitIdentical) {
 }
 
 TEST(Fit, StopsOnANonFiniteLossKeepingTheLastGoodState) {
-  const BallTarget target(3, 0.5, 0.0, std::numeric_limits<float>::quiet_NaN());
+  const NanTarget target;
   FitOptions o = small_options();
   const FitResult r = fit(target, o);
   EXPECT_EQ(r.stop, StopReason::kNonFinite);
@@ -210,7 +180,7 @@ TEST(Fit, StopsOnANonFiniteLossKeepingTheLastGoodState) {
 }
 
 TEST(Fit, TimeLimitStopsEarly) {
-  const BallTarget target(3, 0.5);
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
   FitOptions o = small_options();
   o.iters = 100'000'000;
   o.time_limit = 0.3;
