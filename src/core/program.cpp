@@ -9,6 +9,10 @@ namespace fuzzycsg {
 
 namespace {
 
+// Where the 2D quadric's coefficients (x², y², xy, x, y, 1) sit among the 3D quadric's
+// (x², y², z², xy, yz, zx, x, y, z, 1).
+constexpr int kQuadric2Slots[6] = {0, 1, 3, 6, 7, 9};
+
 bool is_product_standard(const Node& n) {
   return n.logic.family == logic::Family::kProduct &&
          (n.op != OpKind::kDifference || n.complement.kind == logic::Complement::kStandard);
@@ -35,8 +39,11 @@ Program Program::compile(const Tree& tree) {
     ins.step = node.step.kind;
     ins.step_n = node.step.n;
     ins.consts = next_const;
-    if (node.shape.type == PrimitiveType::kQuadric3 && node.placement.empty() &&
-        node.step.kind == StepKind::kSigmoid) {
+    // The 2D quadric runs on the 3D fast path with z = 0 (its six coefficients placed among the
+    // ten, the others 0).
+    if ((node.shape.type == PrimitiveType::kQuadric3 ||
+         node.shape.type == PrimitiveType::kQuadric2) &&
+        node.placement.empty() && node.step.kind == StepKind::kSigmoid) {
       ins.code = OpCode::kLeafQuadric3;
       ins.num_consts = 11;
       prog.has_quadric3_ = true;
@@ -163,7 +170,12 @@ void Program::prepare(std::span<const double> params, std::span<double> consts, 
     double* c = consts.data() + ins.consts;
     switch (ins.code) {
       case OpCode::kLeafQuadric3:
-        for (int i = 0; i < 10; ++i) c[i] = params[node.intrinsic[i].index];
+        if (node.shape.type == PrimitiveType::kQuadric2) {
+          std::fill(c, c + 10, 0.0);
+          for (int i = 0; i < 6; ++i) c[kQuadric2Slots[i]] = params[node.intrinsic[i].index];
+        } else {
+          for (int i = 0; i < 10; ++i) c[i] = params[node.intrinsic[i].index];
+        }
         c[10] = params[node.step.param->index];
         break;
       case OpCode::kLeaf: {
@@ -230,7 +242,11 @@ void Program::pullback_instruction(const Instruction& ins, std::span<const doubl
     const double* g = grad_consts.data() + ins.consts;
     switch (ins.code) {
       case OpCode::kLeafQuadric3:
-        for (int i = 0; i < 10; ++i) sink(node.intrinsic[i], g[i]);
+        if (node.shape.type == PrimitiveType::kQuadric2) {
+          for (int i = 0; i < 6; ++i) sink(node.intrinsic[i], g[kQuadric2Slots[i]]);
+        } else {
+          for (int i = 0; i < 10; ++i) sink(node.intrinsic[i], g[i]);
+        }
         sink(node.step.param, g[10]);
         break;
       case OpCode::kLeaf: {

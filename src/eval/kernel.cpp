@@ -328,6 +328,8 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
     if (a.has_quadric3) {
       const float* x = pts;
       const float* y = pts + kBlock;
+      // 2D quadrics run as 3D ones in the plane z = 0.
+      if (dim == 2) std::fill(pts + 2 * kBlock, pts + 3 * kBlock, 0.0f);
       const float* z = pts + 2 * kBlock;
       for (std::size_t i = 0; i < kBlock; ++i) {
         mono[0 * kBlock + i] = x[i] * x[i];

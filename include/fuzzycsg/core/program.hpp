@@ -17,7 +17,7 @@
 namespace fuzzycsg {
 
 enum class OpCode : std::uint8_t {
-  kLeafQuadric3,  // 3D quadric, no placement, sigmoid step: constants q0..q9, sharpness
+  kLeafQuadric3,  // 3D or 2D (z = 0) quadric, no placement, sigmoid step: q0..q9, sharpness
   kLeaf,          // any primitive: theta, [R], [t], [s], [step parameter]
   kBilinear,      // a x + b y + d x y: product-logic booleans and the unified operator B_c
   kLogic,         // intersection / union / difference of another logic family
