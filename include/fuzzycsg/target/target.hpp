@@ -10,6 +10,27 @@
 //                                 inside; resampled to a square grid, the image mapped to
 //                                 [-1, 1]^2 with +y up; boundary from its signed distance field
 //   .json                       a tree file (TREE_FORMAT), occupancy >= 0.5 is inside
+//
+// Meshes. A point is inside when most of 7 fixed rays from it cross the mesh an odd number of
+// times. A ray that grazes an edge, or leaves through a small hole, is outvoted by the others:
+// a mesh with small holes behaves as if closed (an icosphere missing one of its 5120
+// triangles keeps its volume; meshes/defective/cgal_blade.off, a tube open at both ends, reads
+// as the tube closed by flat caps, within 2%). Loading refuses, with an InputError, a mesh
+// whose rays disagree at more than a tenth of the points of its bounding box ("mesh is not
+// closed": an open sheet such as meshes/defective/cgal_cylinder.off, 99%) and a mesh whose
+// signed volume is about 0 ("mesh encloses no volume"). Faces may wind either way as long as
+// they agree: normals point out of the solid. All meshes of a file are merged, each moved by
+// its node's transform.
+//
+// Pictures. Transparent pixels count as white. A picture that is not square keeps its
+// proportions: its longer side spans [-1, 1], the rest of the square is outside. The boundary
+// is the zero level set of the bilinear signed distance field (SignedDistanceGrid), traced by
+// marching squares; where a shape runs into the edge of the square, that edge is not sampled.
+//
+// Trees. A tree file's "domain" box, centred and scaled by its largest half-extent, is what
+// [-1, 1]^dim stands for (the default domain maps to itself). Boundary points are bisected to
+// within 1e-5 of the 0.5 level set; normals are central differences of the occupancy (coarse
+// for crisp steps, whose occupancy has no slope).
 
 #include <cstddef>
 #include <cstdint>

@@ -1,0 +1,171 @@
+// Choosing a loader by file extension, and the training samplers of inverse CSG.
+#include "fuzzycsg/target/target.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include "fuzzycsg/core/error.hpp"
+#include "target_detail.hpp"
+
+namespace fuzzycsg {
+
+namespace target_detail {
+
+void fail(const std::string& name, const std::string& problem) {
+  throw InputError(name + ": " + problem);
+}
+
+std::string read_file_bytes(const std::filesystem::path& path, const std::string& name) {
+  const auto fail_errno = [&](int error) -> void {
+    fail(name, std::string("cannot read (") + std::strerror(error) + ")");
+  };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail_errno(errno);
+  std::string bytes;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      fail_errno(error);
+    }
+    if (n == 0) break;
+    bytes.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  if (bytes.empty()) fail(name, "empty file");
+  return bytes;
+}
+
+std::string lowercase_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+int thread_count(int requested) {
+  if (requested > 0) return requested;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+std::size_t uniform_index(Rng& rng, std::size_t n) {
+  // 2^64 mod n: the draws below it would make small results more likely than large ones.
+  const std::uint64_t m = static_cast<std::uint64_t>(n);
+  const std::uint64_t threshold = (0 - m) % m;
+  for (;;) {
+    const std::uint64_t r = rng();
+    if (r >= threshold) return static_cast<std::size_t>(r % m);
+  }
+}
+
+}  // namespace target_detail
+
+namespace {
+
+using target_detail::fail;
+
+void check_options(const std::string& name, const TargetOptions& options) {
+  if (!(options.padding >= 0.0 && options.padding < 1.0)) {
+    fail(name, fmt::format("padding must be in [0, 1) (got {})", options.padding));
+  }
+  if (options.threads < 0) {
+    fail(name, fmt::format("threads must be >= 0 (got {})", options.threads));
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options) {
+  const std::filesystem::path file(path);
+  const std::string& name = path;
+  check_options(name, options);
+  const std::string ext = target_detail::lowercase_extension(file);
+  if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off") {
+    return target_detail::load_mesh(file, name, options);
+  }
+  if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".pbm" || ext == ".pgm") {
+    return target_detail::load_image(file, name, options);
+  }
+  if (ext == ".json") return target_detail::load_tree(file, name, options);
+  fail(name, std::string("unknown kind of target (") +
+                 (ext.empty() ? std::string("no extension") : "extension \"" + ext + "\"") +
+                 "; expected .obj .stl .ply .off, .png .jpg .jpeg .pbm .pgm or .json)");
+}
+
+std::vector<float> uniform_points(int dim, std::size_t n, Rng& rng) {
+  if (dim < 1) {
+    throw InputError(fmt::format("uniform_points: dim must be >= 1 (got {})", dim));
+  }
+  std::vector<float> points(n * static_cast<std::size_t>(dim));
+  for (float& v : points) v = static_cast<float>(-1.0 + 2.0 * target_detail::uniform01(rng));
+  return points;
+}
+
+SampleSet draw_samples(const Target& target, std::size_t n, const SamplingOptions& options,
+                       Rng& rng) {
+  const auto bad = [](const std::string& what, double got) -> void {
+    throw InputError(fmt::format("draw_samples: {} (got {})", what, got));
+  };
+  if (!(options.surface >= 0.0 && options.surface <= 1.0)) {
+    bad("surface must be in [0, 1]", options.surface);
+  }
+  if (!(options.near >= 0.0 && options.near <= 1.0)) bad("near must be in [0, 1]", options.near);
+  if (!(options.surface + options.near <= 1.0 + 1e-9)) {
+    bad("surface + near must be <= 1", options.surface + options.near);
+  }
+  if (!(options.near_distance >= 0.0 && std::isfinite(options.near_distance))) {
+    bad("near_distance must be finite and >= 0", options.near_distance);
+  }
+
+  const int dim = target.dim();
+  const auto d = static_cast<std::size_t>(dim);
+  const auto count = [n](double fraction) {
+    return std::min(n, static_cast<std::size_t>(std::llround(static_cast<double>(n) * fraction)));
+  };
+  const std::size_t n_surface = count(options.surface);
+  const std::size_t n_near = std::min(count(options.near), n - n_surface);
+  const std::size_t n_uniform = n - n_surface - n_near;
+
+  SampleSet set;
+  set.dim = dim;
+  set.points.reserve(n * d);
+  std::vector<float> normals;
+  target.sample_boundary(n_surface + n_near, rng, set.points, normals);
+  // The near points: boundary points moved along their normal by U[-near_distance,
+  // near_distance], clipped to the domain.
+  for (std::size_t i = n_surface; i < n_surface + n_near; ++i) {
+    const double t = options.near_distance * (2.0 * target_detail::uniform01(rng) - 1.0);
+    for (std::size_t k = 0; k < d; ++k) {
+      float& x = set.points[i * d + k];
+      x = std::clamp(static_cast<float>(x + t * normals[i * d + k]), -1.0f, 1.0f);
+    }
+  }
+  const std::vector<float> uniform = uniform_points(dim, n_uniform, rng);
+  set.points.insert(set.points.end(), uniform.begin(), uniform.end());
+
+  // Fisher-Yates over whole points.
+  for (std::size_t i = n; i > 1; --i) {
+    const std::size_t j = target_detail::uniform_index(rng, i);
+    if (j != i - 1) {
+      std::swap_ranges(set.points.begin() + static_cast<std::ptrdiff_t>(j * d),
+                       set.points.begin() + static_cast<std::ptrdiff_t>((j + 1) * d),
+                       set.points.begin() + static_cast<std::ptrdiff_t>((i - 1) * d));
+    }
+  }
+  set.occupancy.resize(n);
+  target.occupancy(set.points, set.occupancy);
+  return set;
+}
+
+}  // namespace fuzzycsg
