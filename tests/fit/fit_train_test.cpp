@@ -86,6 +86,9 @@ TEST(FitOptionsValidation, NamesTheFlag) {
 TEST(Fit, LossFallsAndOperatorsAreCounted) {
   const testing::BallTarget target(3, {0, 0, 0}, 0.5);
   FitOptions o = small_options();
+  // Points exactly on the surface carry a loss of about 1/4 each whatever the fit (the soft
+  // occupancy is 1/2 there): leave them out so that the training loss measures the fit.
+  o.sampling.surface = 0.0;
   const FitResult r = fit(target, o);
   ASSERT_EQ(r.stop, StopReason::kIterations);
   EXPECT_EQ(r.state.step, o.iters);
