@@ -53,7 +53,7 @@ struct DemoArgs {
   int threads = 0;
   bool gradient = false;
   std::string out = "fuzzycsg-demo";
-  long iters = 6000;
+  long iters = 20000;
   int prims = 32;
   std::uint64_t seed = 0;
 };

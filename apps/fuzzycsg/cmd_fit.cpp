@@ -211,6 +211,10 @@ int run_fit_job(const FitJob& job) {
         out / "fit.png",
         occupancy_png(occupancy_grid_2d(r.pruned, kRes, options.threads), kRes, kRes));
   }
+  if (dim == 3) {
+    io::write_text_file_atomic(out / "slices.png",
+                               slices_png(*target, r.pruned, 256, options.threads));
+  }
   io::write_text_file_atomic(out / "report.json", report);
 
   if (!job.quiet) {
@@ -232,7 +236,7 @@ int run_fit_job(const FitJob& job) {
     line("trained", r.metrics_trained);
     line("pruned", r.metrics_pruned);
     fmt::print("fit: wrote {}/{{tree.json, tree_pruned.json, report.json, loss.png{}}}\n",
-               out.string(), dim == 2 ? ", target.png, fit.png" : "");
+               out.string(), dim == 2 ? ", target.png, fit.png" : ", slices.png");
   }
   return 0;
 }

@@ -102,11 +102,8 @@ double nice_step(double lo, double hi, int target) {
   return 10.0 * mag;
 }
 
-std::string format_step(double v) {
-  if (v >= 1e6) return fmt::format("{:g}M", v / 1e6);
-  if (v >= 1e3) return fmt::format("{:g}k", v / 1e3);
-  return fmt::format("{:g}", v);
-}
+// Whole numbers (the font's lower-case k reads as "<").
+std::string format_step(double v) { return fmt::format("{:.0f}", v); }
 
 }  // namespace
 
@@ -129,7 +126,7 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
   Canvas c(width, height);
   const Rgb black{0, 0, 0}, grey{220, 220, 220}, blue{31, 119, 180};
   const int left = 90, right = width - 20, top = 45, bottom = height - 60;
-  c.text(width / 2.0, 12, std::string(title), black, 2, 1);
+  c.text(width / 2.0, 6, std::string(title), black, 2, 1);
 
   std::vector<LossPoint> pts;
   for (const LossPoint& p : curve) {
@@ -172,7 +169,7 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
   c.line(left, bottom, right, bottom, black, 2);
   c.line(left, top, left, bottom, black, 2);
   c.text((left + right) / 2.0, height - 26, "step", black, 2, 1);
-  c.text(12, top - 28, "loss (MSE)", black, 2, 0);
+  c.text(12, top - 18, "loss (MSE)", black, 2, 0);
 
   for (std::size_t i = 1; i < pts.size(); ++i) {
     c.line(sx(static_cast<double>(pts[i - 1].step)), sy(pts[i - 1].loss),
@@ -185,6 +182,56 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
            static_cast<int>(sy(pts[0].loss)) + 3, blue);
   }
   return c.png();
+}
+
+std::string slices_png(const Target& target, const Tree& tree, int res, int threads) {
+  if (tree.dim != 3 || target.dim() != 3) throw Error("slices_png: needs a 3D target and tree");
+  constexpr int kGap = 6, kLabel = 22;
+  const int width = 3 * res + 4 * kGap;
+  const int height = 2 * res + 3 * kGap + 2 * kLabel;
+  Canvas canvas(width, height);
+  const Evaluator ev(tree, EvalOptions{threads});
+  const std::vector<double> params = tree.params.values();
+  std::vector<float> points(static_cast<std::size_t>(res) * static_cast<std::size_t>(res) * 3);
+  std::vector<float> values(static_cast<std::size_t>(res) * static_cast<std::size_t>(res));
+  const char* names[3] = {"x = 0 (z right, y up)", "y = 0 (x right, z up)",
+                          "z = 0 (x right, y up)"};
+  // Plane a = 0 with the two other axes (u across, v up).
+  const int across[3] = {2, 0, 0}, up[3] = {1, 2, 1};
+  for (int a = 0; a < 3; ++a) {
+    for (int row = 0; row < res; ++row) {
+      for (int col = 0; col < res; ++col) {
+        float* p = points.data() + (static_cast<std::size_t>(row) * static_cast<std::size_t>(res) +
+                                    static_cast<std::size_t>(col)) *
+                                       3;
+        p[0] = p[1] = p[2] = 0.0f;
+        p[across[a]] = static_cast<float>(-1.0 + (col + 0.5) * 2.0 / res);
+        p[up[a]] = static_cast<float>(1.0 - (row + 0.5) * 2.0 / res);
+      }
+    }
+    for (int which = 0; which < 2; ++which) {
+      if (which == 0) {
+        target.occupancy(points, values);
+      } else {
+        ev.forward(params, points, values);
+      }
+      const int x0 = kGap + a * (res + kGap);
+      const int y0 = kLabel + kGap + which * (res + kGap + kLabel);
+      for (int row = 0; row < res; ++row) {
+        for (int col = 0; col < res; ++col) {
+          const float v =
+              std::clamp(values[static_cast<std::size_t>(row) * static_cast<std::size_t>(res) +
+                                static_cast<std::size_t>(col)],
+                         0.0f, 1.0f);
+          const auto g = static_cast<unsigned char>(std::lround(255.0 * (1.0 - v)));
+          canvas.set(x0 + col, y0 + row, {g, g, g});
+        }
+      }
+      canvas.text(x0 + res / 2.0, y0 - kLabel + 4,
+                  fmt::format("{}: {}", which == 0 ? "target" : "fit", names[a]), {0, 0, 0}, 1, 1);
+    }
+  }
+  return canvas.png();
 }
 
 std::vector<float> occupancy_grid_2d(const Tree& tree, int res, int threads) {

@@ -9,6 +9,7 @@
 
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/fit/fit.hpp"
+#include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg {
 
@@ -22,6 +23,10 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
 // Occupancy of a 2D tree at the pixel centres of a res x res grid over [-1, 1]^2, row 0 at
 // y = +1 (as the image targets are read).
 std::vector<float> occupancy_grid_2d(const Tree& tree, int res, int threads = 0);
+
+// Three axis-aligned cross-sections through the origin of a 3D target (top row) and a tree's
+// occupancy (bottom row), res x res pixels each, inside black.
+std::string slices_png(const Target& target, const Tree& tree, int res = 256, int threads = 0);
 
 // Greyscale picture of occupancies in [0, 1]: 1 (inside) black, 0 white, as the pictures fitted.
 std::string occupancy_png(std::span<const float> values, int width, int height);

@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""Liu et al. 2024, Fig. 12: optimising the operator types (unified B_c) against fixed, randomly
+initialised booleans with product logic and with Gödel logic, on CAD meshes, for several tree
+sizes and seeds. Runs `fuzzycsg fit` for every combination and prints a Markdown table: occupancy
+MSE on 2 million uniform points after pruning, IoU, node counts before -> after pruning and the
+number of unified operators whose type changed, each row with its command, then medians over
+the seeds.
+
+  /usr/bin/python3 bench/fig12_study.py --bin build/release/apps/fuzzycsg/fuzzycsg \\
+      --meshes cgal_fandisk.off --prims 32,64,256 --seeds 0,1 --iters 20000
+
+Modes: "unified" (our default: the temperature rises from 1 to 1000 over the first half),
+"unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel".
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+MODES = {
+    "unified": ["--ops", "unified"],
+    "unified-t1000": ["--ops", "unified", "--temperature-ramp", "0"],
+    "product": ["--ops", "product"],
+    "godel": ["--ops", "godel"],
+}
+
+
+def run(args, mesh, prims, mode, seed, out):
+    cmd = [args.bin, "fit", os.path.join(args.data, mesh), "-o", out, "--prims", str(prims),
+           "--iters", str(args.iters), "--batch", str(args.batch), "--lr", str(args.lr),
+           "--seed", str(seed), "--threads", str(args.threads), "--checkpoint-every", "0", "-q",
+           *MODES[mode]]
+    subprocess.run(cmd, check=True)
+    with open(os.path.join(out, "report.json")) as f:
+        report = json.load(f)
+    shown = " ".join(["fuzzycsg", *cmd[1:2], "../shared/data/meshes/cad/" + mesh, *cmd[3:]])
+    shown = shown.replace(" -q", "").replace(" --checkpoint-every 0", "")
+    return report, shown.replace(out, "OUT")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    ap.add_argument("--bin", default=os.path.join(root, "build/release/apps/fuzzycsg/fuzzycsg"))
+    ap.add_argument("--data", default=os.path.join(root, "../shared/data/meshes/cad"))
+    ap.add_argument("--meshes", default="cgal_fandisk.off")
+    ap.add_argument("--prims", default="32,64,256")
+    ap.add_argument("--modes", default="unified,unified-t1000,product,godel")
+    ap.add_argument("--seeds", default="0,1")
+    ap.add_argument("--iters", type=int, default=20000)
+    ap.add_argument("--batch", type=int, default=1024)
+    ap.add_argument("--lr", type=float, default=1e-3)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--json", help="also write every run's summary here")
+    args = ap.parse_args()
+
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for mesh in args.meshes.split(","):
+            for prims in [int(p) for p in args.prims.split(",")]:
+                for mode in args.modes.split(","):
+                    for seed in [int(s) for s in args.seeds.split(",")]:
+                        out = os.path.join(tmp, f"{mesh}-{prims}-{mode}-{seed}")
+                        r, cmd = run(args, mesh, prims, mode, seed, out)
+                        c0, c1 = r["counts"]["trained"], r["counts"]["pruned"]
+                        rows.append({
+                            "mesh": mesh, "prims": prims, "mode": mode, "seed": seed,
+                            "mse": r["metrics"]["pruned"]["mse"],
+                            "mse_trained": r["metrics"]["trained"]["mse"],
+                            "iou": r["metrics"]["pruned"]["iou"],
+                            "chamfer": r["metrics"]["pruned"]["chamfer"],
+                            "nodes": f'{c0["primitives"]}+{c0["operators"]} -> '
+                                     f'{c1["primitives"]}+{c1["operators"]}',
+                            "nodes_after": c1["primitives"] + c1["operators"],
+                            "changed": r["operators"]["changed_type"],
+                            "unified": r["operators"]["unified"],
+                            "seconds": r["timings"]["train_seconds"],
+                            "command": cmd,
+                        })
+                        print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+
+    print("| mesh | P | operators | seed | MSE (2M pts) | IoU | nodes before -> after | "
+          "types changed | train s | command |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        changed = f'{r["changed"]}/{r["unified"]}' if r["unified"] else "-"
+        print(f'| {r["mesh"]} | {r["prims"]} | {r["mode"]} | {r["seed"]} | {r["mse"]:.4f} | '
+              f'{r["iou"]:.3f} | {r["nodes"]} | {changed} | {r["seconds"]:.1f} | '
+              f'`{r["command"]}` |')
+    print()
+    print("| mesh | P | operators | median MSE | median IoU | median nodes after pruning |")
+    print("|---|---|---|---|---|---|")
+    keys = []
+    for r in rows:
+        k = (r["mesh"], r["prims"], r["mode"])
+        if k not in keys:
+            keys.append(k)
+    for k in keys:
+        sel = [r for r in rows if (r["mesh"], r["prims"], r["mode"]) == k]
+        print(f'| {k[0]} | {k[1]} | {k[2]} | {statistics.median(r["mse"] for r in sel):.4f} | '
+              f'{statistics.median(r["iou"] for r in sel):.3f} | '
+              f'{statistics.median(r["nodes_after"] for r in sel):g} |')
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
