@@ -103,7 +103,7 @@ std::string display_name(const std::filesystem::path& path) { return path.string
 
 std::string read_text_file(const std::filesystem::path& path) {
   const auto fail = [&](int error) -> void {
-    throw InputError("cannot read " + display_name(path) + ": " + std::strerror(error));
+    throw InputError(display_name(path) + ": cannot read (" + std::strerror(error) + ")");
   };
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) fail(errno);

@@ -132,6 +132,8 @@ std::vector<float> read_points_file(const std::filesystem::path& path, int dim) 
   return read_points_string(text, dim, detail::display_name(path));
 }
 
+std::string read_file(const std::filesystem::path& path) { return detail::read_text_file(path); }
+
 void write_text_file_atomic(const std::filesystem::path& path, std::string_view text) {
   const std::string temp = temp_name_beside(path);
   const auto fail = [&](const std::string& reason) -> void {

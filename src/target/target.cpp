@@ -1,18 +1,16 @@
 // Choosing a loader by file extension, and the training samplers of inverse CSG.
 #include "fuzzycsg/target/target.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <thread>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/points.hpp"
 #include "target_detail.hpp"
 
 namespace fuzzycsg {
@@ -24,25 +22,7 @@ void fail(const std::string& name, const std::string& problem) {
 }
 
 std::string read_file_bytes(const std::filesystem::path& path, const std::string& name) {
-  const auto fail_errno = [&](int error) -> void {
-    fail(name, std::string("cannot read (") + std::strerror(error) + ")");
-  };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) fail_errno(errno);
-  std::string bytes;
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd);
-      fail_errno(error);
-    }
-    if (n == 0) break;
-    bytes.append(buffer, static_cast<std::size_t>(n));
-  }
-  ::close(fd);
+  std::string bytes = io::read_file(path);
   if (bytes.empty()) fail(name, "empty file");
   return bytes;
 }

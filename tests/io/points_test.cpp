@@ -87,13 +87,13 @@ TEST(Points, Files) {
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "cannot read " + (dir / "missing.txt").string() + ": No such file or directory");
+              (dir / "missing.txt").string() + ": cannot read (No such file or directory)");
   }
   try {
     read_points_file(dir, 2);
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "cannot read " + dir.string() + ": Is a directory");
+    EXPECT_EQ(std::string(e.what()), dir.string() + ": cannot read (Is a directory)");
   }
   fs::remove_all(dir);
 }

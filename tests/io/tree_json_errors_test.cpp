@@ -450,7 +450,7 @@ TEST(TreeJsonErrors, UnreadableFile) {
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "cannot read /nonexistent/dir/tree.json: No such file or directory");
+              "/nonexistent/dir/tree.json: cannot read (No such file or directory)");
   }
 }
 
