@@ -9,7 +9,7 @@ the seeds.
   /usr/bin/python3 bench/fig12_study.py --bin build/release/apps/fuzzycsg/fuzzycsg \\
       --meshes cgal_fandisk.off --prims 32,64,256 --seeds 0,1 --iters 20000
 
-Modes: "unified" (our default: the temperature rises from 1 to 1000 over the first half),
+Modes: "unified" (our default: the temperature rises from 10 to 1000 over the first 30% of the steps),
 "unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel".
 """
 

@@ -34,8 +34,8 @@ struct FitOptions {
   OperatorMode ops = OperatorMode::kUnified;
   double init_range = 0.5;      // parameters ~ U[-init_range, init_range] (App. A)
   double temperature = 1000.0;  // t (the final value when ramped)
-  double temperature_start = 1.0;
-  double temperature_ramp = 0.5;  // fraction of `iters` over which t rises; 0: constant t
+  double temperature_start = 10.0;
+  double temperature_ramp = 0.3;  // fraction of `iters` over which t rises; 0: constant t
   double omega = 10.0;
   std::uint64_t seed = 0;
 
