@@ -140,16 +140,21 @@ inline std::string to_obj(const PolyMesh& m) {
   return s.str();
 }
 
-inline std::string to_off(const PolyMesh& m) {
-  std::ostringstream s;
-  s.precision(17);
-  s << "OFF\n" << m.vertices.size() << ' ' << m.faces.size() << " 0\n";
+// The body shared by OFF and ASCII PLY: "x y z" lines, then "n i0 i1 ..." lines.
+inline void write_vertices_and_faces(std::ostringstream& s, const PolyMesh& m) {
   for (const auto& p : m.vertices) s << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
   for (const auto& f : m.faces) {
     s << f.size();
     for (int i : f) s << ' ' << i;
     s << '\n';
   }
+}
+
+inline std::string to_off(const PolyMesh& m) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "OFF\n" << m.vertices.size() << ' ' << m.faces.size() << " 0\n";
+  write_vertices_and_faces(s, m);
   return s.str();
 }
 
@@ -159,12 +164,7 @@ inline std::string to_ply(const PolyMesh& m) {
   s << "ply\nformat ascii 1.0\nelement vertex " << m.vertices.size()
     << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << m.faces.size()
     << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& p : m.vertices) s << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-  for (const auto& f : m.faces) {
-    s << f.size();
-    for (int i : f) s << ' ' << i;
-    s << '\n';
-  }
+  write_vertices_and_faces(s, m);
   return s.str();
 }
 
