@@ -59,7 +59,7 @@ class Canvas {
     const int width = stb_easy_font_width(buf.data()) * scale;
     if (align == 1) x -= width / 2.0;
     if (align == 2) x -= width;
-    std::vector<char> vbuf(s.size() * 300 + 64);
+    std::vector<char> vbuf(s.size() * 1200 + 64);  // a glyph takes up to ~1 kB of quads
     const int quads =
         stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
     // Each quad is 4 vertices of {float x, y, z; uint8 rgba[4]}, axis-aligned.
@@ -125,7 +125,7 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
                            int height) {
   Canvas c(width, height);
   const Rgb black{0, 0, 0}, grey{220, 220, 220}, blue{31, 119, 180};
-  const int left = 90, right = width - 20, top = 45, bottom = height - 60;
+  const int left = 90, right = width - 45, top = 60, bottom = height - 60;
   c.text(width / 2.0, 6, std::string(title), black, 2, 1);
 
   std::vector<LossPoint> pts;
@@ -169,7 +169,7 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
   c.line(left, bottom, right, bottom, black, 2);
   c.line(left, top, left, bottom, black, 2);
   c.text((left + right) / 2.0, height - 26, "step", black, 2, 1);
-  c.text(12, top - 18, "loss (MSE)", black, 2, 0);
+  c.text(12, top - 30, "loss (MSE)", black, 2, 0);
 
   for (std::size_t i = 1; i < pts.size(); ++i) {
     c.line(sx(static_cast<double>(pts[i - 1].step)), sy(pts[i - 1].loss),
