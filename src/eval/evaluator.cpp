@@ -10,6 +10,7 @@
 #include <string>
 #include <thread>
 
+#include "eval/flush_denormals.hpp"
 #include "eval/kernel.hpp"
 #include "fuzzycsg/core/error.hpp"
 
@@ -154,6 +155,7 @@ void Evaluator::forward(std::span<const double> params, std::span<const float> p
   im.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
       kernel::Scratch& s = im.local_scratch();
+      const eval_detail::FlushDenormals ftz;
       for (std::size_t c = r.begin(); c != r.end(); ++c) {
         kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, nullptr, nullptr);
       }
@@ -212,6 +214,7 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
   im.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
       kernel::Scratch& s = im.local_scratch();
+      const eval_detail::FlushDenormals ftz;
       for (std::size_t c = r.begin(); c != r.end(); ++c) {
         kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, chunk_grad.data() + c * nc,
                     &chunk_loss[c]);
