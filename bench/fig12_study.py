@@ -26,13 +26,20 @@ MODES = {
     "unified-t1000": ["--ops", "unified", "--temperature-ramp", "0"],
     "product": ["--ops", "product"],
     "godel": ["--ops", "godel"],
+    # Beyond the paper (docs/results.md): a larger step, re-seeding of dead primitives, and
+    # initialisation from the target.
+    "lr3": ["--ops", "unified", "--lr", "3e-3"],
+    "lr3-reseed": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000"],
+    "lr3-reseed-surface": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
+                           "--init", "surface"],
+    "lr3-balls": ["--ops", "unified", "--lr", "3e-3", "--init", "balls"],
 }
 
 
 def run(args, mesh, prims, mode, seed, out):
     cmd = [args.bin, "fit", os.path.join(args.data, mesh), "-o", out, "--prims", str(prims),
-           "--iters", str(args.iters), "--batch", str(args.batch), "--lr", str(args.lr),
-           "--seed", str(seed), "--threads", str(args.threads), "--checkpoint-every", "0", "-q",
+           "--iters", str(args.iters), "--batch", str(args.batch),
+           *([] if "--lr" in MODES[mode] else ["--lr", str(args.lr)]), "--seed", str(seed), "--threads", str(args.threads), "--checkpoint-every", "0", "-q",
            *MODES[mode]]
     subprocess.run(cmd, check=True)
     with open(os.path.join(out, "report.json")) as f:

@@ -226,6 +226,12 @@ int run_fit_job(const FitJob& job) {
       fmt::print("fit: {} of {} operators changed type during training\n", r.operators_changed,
                  r.operators_total);
     }
+    if (options.init == InitMode::kTarget) {
+      fmt::print("fit: {} primitives started as balls inside the target\n", r.initialised_leaves);
+    }
+    if (options.reseed_every > 0) {
+      fmt::print("fit: {} dead primitives re-seeded\n", r.reseeded);
+    }
     fmt::print("fit: pruned {}+{} -> {}+{} nodes (primitives+operators)\n", before.primitives,
                before.operators, after.primitives, after.operators);
     const auto line = [](const char* what, const std::optional<Metrics>& m) {
@@ -287,6 +293,32 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--omega", o->omega, "Frequency omega of sin(omega c)")
                       ->capture_default_str());
   model.push_back(cmd->add_option("--init-range", o->init_range, "Initial parameters ~ U[-r, r]")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--init", o->init,
+                                  "Start: random (U[-r, r], as the paper), balls (a union of balls "
+                                  "covering the target) or surface (random quadrics through target "
+                                  "surface points)")
+                      ->transform(CLI::CheckedTransformer(
+                          std::map<std::string, InitMode>{{"random", InitMode::kRandom},
+                                                          {"balls", InitMode::kTarget},
+                                                          {"surface", InitMode::kSurface}})));
+  model.push_back(cmd->add_option("--init-slope", o->init_slope,
+                                  "--init balls|surface: slope of the occupancy across each "
+                                  "leaf's surface (0: 20 for balls, 1 for surface)")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--lr-schedule", o->lr_schedule,
+                                  "Learning rate: constant, or cosine from --lr down to "
+                                  "--lr * --lr-end")
+                      ->transform(CLI::CheckedTransformer(std::map<std::string, LrSchedule>{
+                          {"constant", LrSchedule::kConstant}, {"cosine", LrSchedule::kCosine}})));
+  model.push_back(cmd->add_option("--lr-end", o->lr_end,
+                                  "Cosine schedule: final learning rate as a fraction of --lr")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--reseed-every", o->reseed_every,
+                                  "Steps between re-seedings of dead primitives (0: none)")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--reseed-until", o->reseed_until,
+                                  "Re-seed during this fraction of the steps")
                       ->capture_default_str());
   model.push_back(cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str());
   model.push_back(cmd->add_option("--surface", o->sampling.surface,

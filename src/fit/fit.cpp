@@ -5,11 +5,14 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <memory>
+#include <numbers>
 #include <sstream>
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/fit/init.hpp"
 
 namespace fuzzycsg {
 
@@ -28,6 +31,8 @@ double seconds_since(Clock::time_point t) {
 // The sampler draws from its own stream so that changing the model's seed use does not shift
 // the training points (and vice versa).
 constexpr std::uint64_t kSamplerStream = 0x9e3779b97f4a7c15ULL;
+// Re-seeding rounds draw from a stream of the seed and the step, so a resumed run repeats them.
+constexpr std::uint64_t kReseedStream = 0xd1b54a32d192ed03ULL;
 
 std::string save_rng(const Rng& rng) {
   std::ostringstream s;
@@ -117,6 +122,9 @@ void validate(const FitOptions& o, int dim) {
   if (!(o.init_range > 0) || !std::isfinite(o.init_range)) {
     bad_flag("--init-range", fmt::format("must be > 0 (got {})", o.init_range));
   }
+  if (!(o.init_slope >= 0) || !std::isfinite(o.init_slope)) {
+    bad_flag("--init-slope", fmt::format("must be >= 0 (got {})", o.init_slope));
+  }
   if (!(o.temperature > 0) || !std::isfinite(o.temperature)) {
     bad_flag("--temperature", fmt::format("must be > 0 (got {})", o.temperature));
   }
@@ -166,6 +174,15 @@ void validate(const FitOptions& o, int dim) {
   if (!(o.prune_threshold >= 0) || !std::isfinite(o.prune_threshold)) {
     bad_flag("--prune-threshold", fmt::format("must be >= 0 (got {})", o.prune_threshold));
   }
+  if (!(o.lr_end > 0 && o.lr_end <= 1)) {
+    bad_flag("--lr-end", fmt::format("must be in (0, 1] (got {})", o.lr_end));
+  }
+  if (o.reseed_every < 0) {
+    bad_flag("--reseed-every", fmt::format("must be >= 0 (got {})", o.reseed_every));
+  }
+  if (!(o.reseed_until >= 0 && o.reseed_until <= 1)) {
+    bad_flag("--reseed-until", fmt::format("must be in [0, 1] (got {})", o.reseed_until));
+  }
   if (o.prune_points < 1) bad_flag("--prune-points", "must be >= 1");
   if (o.metrics.points < 1) bad_flag("--metric-points", "must be >= 1");
 }
@@ -191,11 +208,31 @@ double temperature_at(const FitOptions& o, long step) {
   return o.temperature_start * std::pow(o.temperature / o.temperature_start, f);
 }
 
+double lr_at(const FitOptions& o, long step) {
+  if (o.lr_schedule == LrSchedule::kConstant || o.iters <= 0) return o.lr;
+  const double f = std::clamp(static_cast<double>(step) / static_cast<double>(o.iters), 0.0, 1.0);
+  return o.lr * (o.lr_end + (1.0 - o.lr_end) * 0.5 * (1.0 + std::cos(std::numbers::pi * f)));
+}
+
 FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
               const TrainState* resume) {
   const int dim = target.dim();
   validate(o, dim);
   Tree model = make_initial_model(o, dim);
+  FitResult result;
+  if (o.init == InitMode::kTarget) {
+    TargetInitOptions io;
+    io.temperature = temperature_at(o, 0);
+    io.seed = o.seed;
+    if (o.init_slope > 0) io.slope = o.init_slope;
+    result.initialised_leaves = initialise_from_target(model, target, io);
+  } else if (o.init == InitMode::kSurface) {
+    SurfaceInitOptions so;
+    so.seed = o.seed;
+    so.curvature = o.init_range;
+    if (o.init_slope > 0) so.slope = o.init_slope;
+    result.initialised_leaves = initialise_on_surface(model, target, so);
+  }
   const Evaluator ev(model, EvalOptions{o.threads});
   const std::size_t n = model.params.size();
   const std::vector<double> initial = model.params.values();
@@ -236,7 +273,12 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
   std::vector<double> grad(n);
   std::vector<float> points(batch * static_cast<std::size_t>(dim));
   std::vector<float> labels(batch);
-  FitResult result;
+  std::unique_ptr<BoundaryDistance> distance;
+  const long reseed_last = static_cast<long>(o.reseed_until * static_cast<double>(o.iters));
+  if (o.reseed_every > 0 && o.reseed_every < reseed_last) {
+    Rng drng(o.seed ^ kReseedStream);
+    distance = std::make_unique<BoundaryDistance>(target, 50000, drng);
+  }
   const Clock::time_point start = Clock::now();
   const double seconds_before = st.seconds;
   Clock::time_point last_report = start;
@@ -304,15 +346,28 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     const double k = static_cast<double>(st.step + 1);
     const double c1 = 1.0 - std::pow(o.beta1, k);
     const double c2 = 1.0 - std::pow(o.beta2, k);
+    const double lr = lr_at(o, st.step);
     for (std::size_t i = 0; i < n; ++i) {
       if (!free[i]) continue;
       st.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * grad[i];
       st.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * grad[i] * grad[i];
-      const double update = o.lr * (st.m[i] / c1) / (std::sqrt(st.v[i] / c2) + o.adam_eps);
+      const double update = lr * (st.m[i] / c1) / (std::sqrt(st.v[i] / c2) + o.adam_eps);
       st.params[i] = project(st.params[i] - update, ranges[i]);
     }
 
     ++st.step;
+    if (distance && st.step % o.reseed_every == 0 && st.step < reseed_last) {
+      Rng rrng(o.seed ^ kReseedStream ^
+               (static_cast<std::uint64_t>(st.step) * 0x9e3779b97f4a7c15ULL));
+      ReseedOptions ro;
+      if (o.init_slope > 0) ro.slope = o.init_slope;
+      ro.threshold = o.prune_threshold;
+      ro.near_distance = o.sampling.near_distance;
+      const ReseedReport rep =
+          reseed_dead_leaves(model, ev, target, *distance, st.params, st.m, st.v, ro, rrng);
+
+      st.reseeded += rep.moved;
+    }
     st.loss_sum += loss;
     ++st.loss_count;
     report_loss_sum += loss;
@@ -351,6 +406,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
       result.operators_changed += before[i] != after[i] ? 1 : 0;
     }
   }
+  result.reseeded = st.reseeded;
   result.state = std::move(st);
   if (result.stop == StopReason::kNonFinite) return result;
 

@@ -8,11 +8,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <nanoflann.hpp>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "fit/point_cloud.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 
@@ -36,20 +36,8 @@ std::vector<float> uniform_cube(int dim, std::size_t n, Rng& rng) {
   return p;
 }
 
-// A row-major n x dim point array as nanoflann's dataset.
-struct Cloud {
-  const std::vector<float>& points;
-  std::size_t dim;
-  std::size_t kdtree_get_point_count() const { return points.size() / dim; }
-  float kdtree_get_pt(std::size_t i, std::size_t d) const { return points[i * dim + d]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const {
-    return false;
-  }
-};
-
-using KdTree =
-    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud>, Cloud, -1>;
+using fit_detail::Cloud;
+using fit_detail::KdTree;
 
 // Mean over `queries` of the distance to the nearest of `points`.
 double mean_nearest(const std::vector<float>& queries, const std::vector<float>& points,

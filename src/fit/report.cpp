@@ -14,13 +14,27 @@ namespace {
 
 using json = nlohmann::json;
 
+std::string init_mode_name(InitMode m) {
+  switch (m) {
+    case InitMode::kRandom:
+      return "random";
+    case InitMode::kTarget:
+      return "balls";
+    case InitMode::kSurface:
+      return "surface";
+  }
+  return "?";
+}
+
 json options_to_json(const FitOptions& o) {
   json families = json::array();
   for (PrimitiveType f : o.families) families.push_back(std::string(primitive_info(f).name));
   return json{{"prims", o.prims},
               {"families", families},
               {"ops", std::string(operator_mode_name(o.ops))},
+              {"init", init_mode_name(o.init)},
               {"init_range", o.init_range},
+              {"init_slope", o.init_slope},
               {"temperature", o.temperature},
               {"temperature_start", o.temperature_start},
               {"temperature_ramp", o.temperature_ramp},
@@ -34,6 +48,10 @@ json options_to_json(const FitOptions& o) {
               {"beta1", o.beta1},
               {"beta2", o.beta2},
               {"adam_eps", o.adam_eps},
+              {"lr_schedule", o.lr_schedule == LrSchedule::kCosine ? "cosine" : "constant"},
+              {"lr_end", o.lr_end},
+              {"reseed_every", o.reseed_every},
+              {"reseed_until", o.reseed_until},
               {"sampling",
                {{"surface", o.sampling.surface},
                 {"near", o.sampling.near},
@@ -79,6 +97,13 @@ class Reader {
     }
   }
 
+  // An optional field (absent from files written before it existed).
+  template <class T>
+  T get_or(const json& obj, const std::string& where, const char* key, T fallback) const {
+    if (obj.is_object() && obj.find(key) == obj.end()) return fallback;
+    return get<T>(obj, where, key);
+  }
+
   std::vector<double> numbers(const json& obj, const std::string& where, const char* key) const {
     const json& v = field(obj, where, key);
     const std::string path = where + "." + key;
@@ -116,7 +141,18 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   } else {
     r.fail(w + ".ops", "must be unified, product or godel");
   }
+  const std::string init = r.get_or<std::string>(j, w, "init", "random");
+  if (init == "random") {
+    o.init = InitMode::kRandom;
+  } else if (init == "balls") {
+    o.init = InitMode::kTarget;
+  } else if (init == "surface") {
+    o.init = InitMode::kSurface;
+  } else {
+    r.fail(w + ".init", "must be random, balls or surface");
+  }
   o.init_range = r.get<double>(j, w, "init_range");
+  o.init_slope = r.get_or<double>(j, w, "init_slope", o.init_slope);
   o.temperature = r.get<double>(j, w, "temperature");
   o.temperature_start = r.get<double>(j, w, "temperature_start");
   o.temperature_ramp = r.get<double>(j, w, "temperature_ramp");
@@ -130,6 +166,17 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.beta1 = r.get<double>(j, w, "beta1");
   o.beta2 = r.get<double>(j, w, "beta2");
   o.adam_eps = r.get<double>(j, w, "adam_eps");
+  const std::string schedule = r.get_or<std::string>(j, w, "lr_schedule", "constant");
+  if (schedule == "constant") {
+    o.lr_schedule = LrSchedule::kConstant;
+  } else if (schedule == "cosine") {
+    o.lr_schedule = LrSchedule::kCosine;
+  } else {
+    r.fail(w + ".lr_schedule", "must be constant or cosine");
+  }
+  o.lr_end = r.get_or<double>(j, w, "lr_end", o.lr_end);
+  o.reseed_every = r.get_or<long>(j, w, "reseed_every", 0L);
+  o.reseed_until = r.get_or<double>(j, w, "reseed_until", o.reseed_until);
   const json& s = r.field(j, w, "sampling");
   o.sampling.surface = r.get<double>(s, w + ".sampling", "surface");
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");
@@ -199,7 +246,8 @@ std::string checkpoint_to_string(const Checkpoint& c) {
            {"curve", curve_json(s.curve)},
            {"loss_sum", s.loss_sum},
            {"loss_count", s.loss_count},
-           {"seconds", s.seconds}}}};
+           {"seconds", s.seconds},
+           {"reseeded", s.reseeded}}}};
   return j.dump(1) + "\n";
 }
 
@@ -236,6 +284,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   c.state.loss_sum = r.get<double>(s, w, "loss_sum");
   c.state.loss_count = r.get<long>(s, w, "loss_count");
   c.state.seconds = r.get<double>(s, w, "seconds");
+  c.state.reseeded = r.get_or<long>(s, w, "reseeded", 0L);
   const json& curve = r.field(s, w, "curve");
   if (!curve.is_array()) r.fail("state.curve", "must be an array");
   for (const json& p : curve) {
@@ -269,6 +318,7 @@ std::string fit_report_json(const FitResult& r, const FitOptions& o, const Repor
   j["steps"] = r.state.step;
   j["final_loss"] = r.state.curve.empty() ? json(nullptr) : json(r.state.curve.back().loss);
   j["operators"] = {{"unified", r.operators_total}, {"changed_type", r.operators_changed}};
+  j["init"] = {{"leaves_from_target", r.initialised_leaves}, {"reseeded_leaves", r.reseeded}};
   j["counts"] = {{"trained", counts_json(r.trained)}};
   if (r.stop != StopReason::kNonFinite) {
     j["counts"]["pruned"] = counts_json(r.pruned);

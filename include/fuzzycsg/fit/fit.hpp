@@ -27,12 +27,22 @@
 
 namespace fuzzycsg {
 
+// How the model's parameters start: U[-init_range, init_range] (App. A), or from the target
+// (fuzzycsg/fit/init.hpp: a union of balls covering it).
+enum class InitMode { kRandom, kTarget, kSurface };
+// The learning rate over the steps: constant (App. A), or a cosine from lr down to lr * lr_end.
+enum class LrSchedule { kConstant, kCosine };
+
 struct FitOptions {
   // --- model
   int prims = 64;                       // leaves of the full binary tree, a power of two
   std::vector<PrimitiveType> families;  // leaf i is families[i % size]; empty: quadric of dim
   OperatorMode ops = OperatorMode::kUnified;
-  double init_range = 0.5;      // parameters ~ U[-init_range, init_range] (App. A)
+  InitMode init = InitMode::kRandom;
+  double init_range = 0.5;  // parameters ~ U[-init_range, init_range] (App. A)
+  // kTarget, kSurface: the occupancy's slope across the leaves' surfaces at the start (0: 20 for
+  // balls, 1 — the quadrics' default sharpness — for surface patches).
+  double init_slope = 0.0;
   double temperature = 1000.0;  // t (the final value when ramped)
   double temperature_start = 10.0;
   double temperature_ramp = 0.3;  // fraction of `iters` over which t rises; 0: constant t
@@ -45,6 +55,12 @@ struct FitOptions {
   std::size_t pool = 0;     // points drawn at each resampling (0: batch); steps cycle through it
   int resample_every = 10;  // steps between resamplings
   double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, adam_eps = 1e-8;
+  LrSchedule lr_schedule = LrSchedule::kConstant;
+  double lr_end = 0.05;  // kCosine: the final learning rate as a fraction of lr
+  // Re-seeding of dead leaves (fuzzycsg/fit/init.hpp) every `reseed_every` steps (0: never)
+  // during the first `reseed_until` fraction of the steps.
+  long reseed_every = 0;
+  double reseed_until = 0.5;
   SamplingOptions sampling;
   int threads = 0;
   double time_limit = 0;  // seconds of training, 0: none
@@ -77,6 +93,7 @@ struct TrainState {
   double loss_sum = 0;  // since the last curve point
   long loss_count = 0;
   double seconds = 0;  // training time so far
+  long reseeded = 0;   // leaves moved by re-seeding so far
 };
 
 struct Progress {
@@ -108,16 +125,22 @@ struct FitResult {
   long last_good_step = 0;    // kNonFinite: the step whose parameters are in `trained`
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
+  long reseeded = 0;           // leaves moved by re-seeding
+  int initialised_leaves = 0;  // InitMode::kTarget: leaves started as balls
   PruneReport prune;
   std::optional<Metrics> metrics_trained, metrics_pruned;
   double train_seconds = 0, prune_seconds = 0, metrics_seconds = 0;
 };
 
-// The initial model for a target of dimension `dim`.
+// The initial model for a target of dimension `dim`, drawn at random (InitMode::kRandom; fit()
+// then starts it from the target when options.init says so).
 Tree make_initial_model(const FitOptions& options, int dim);
 
 // Temperature at a step (see the header comment).
 double temperature_at(const FitOptions& options, long step);
+
+// Learning rate at a step.
+double lr_at(const FitOptions& options, long step);
 
 // Runs the fit. `resume` continues from a checkpoint of the same model and options.
 FitResult fit(const Target& target, const FitOptions& options, const FitHooks& hooks = {},
