@@ -351,6 +351,35 @@ std::vector<std::size_t> leaf_parameters(const Node& n) {
   return out;
 }
 
+void grow_ball(Ball& ball, const BoundaryDistance& distance, int steps) {
+  const int dim = distance.dim();
+  const auto d = static_cast<std::size_t>(dim);
+  float c[3] = {0, 0, 0};
+  for (std::size_t a = 0; a < d; ++a) c[a] = static_cast<float>(ball.center[a]);
+  double r = distance(c);
+  double step = 0.5 * r;
+  for (int k = 0; k < steps && step > 1e-4; ++k) {
+    const float* q = distance.point(distance.nearest(c));
+    double len = 0.0;
+    for (std::size_t a = 0; a < d; ++a) len += (c[a] - q[a]) * (c[a] - q[a]);
+    len = std::sqrt(len);
+    if (len <= 0.0) break;
+    float t[3] = {0, 0, 0};
+    for (std::size_t a = 0; a < d; ++a) {
+      t[a] = static_cast<float>(std::clamp(c[a] + step * (c[a] - q[a]) / len, -1.0, 1.0));
+    }
+    const double rt = distance(t);
+    if (rt > r) {
+      std::copy(t, t + 3, c);
+      r = rt;
+    } else {
+      step *= 0.5;
+    }
+  }
+  for (std::size_t a = 0; a < d; ++a) ball.center[a] = c[a];
+  ball.radius = r;
+}
+
 bool set_leaf_constant(const Tree& tree, int node, bool full, std::span<double> params) {
   const Node& n = tree.node(node);
   if (n.kind != NodeKind::kPrimitive) return false;
@@ -455,13 +484,27 @@ ReseedReport reseed_dead_leaves(const Tree& model, const Evaluator& evaluator, c
       if (s.occupancy[i] < 0.5f && occ[i] > 0.5f) spurious.push_back(i);
     }
     if (missed.empty() && spurious.empty()) break;
+    // Of a few wrong points drawn at random, the one deepest in the wrong region (farthest
+    // from the boundary): a ball there can fix the most.
     const auto pick = [&](const std::vector<std::size_t>& where) {
-      return where[uniform_index(rng, where.size())];
+      std::size_t best = where[uniform_index(rng, where.size())];
+      double depth = distance(&s.points[best * d]);
+      for (int k = 1; k < o.candidates; ++k) {
+        const std::size_t i = where[uniform_index(rng, where.size())];
+        const double di = distance(&s.points[i * d]);
+        if (di > depth) {
+          best = i;
+          depth = di;
+        }
+      }
+      return best;
     };
     const auto ball_at = [&](std::size_t i) {
       Ball b;
       for (std::size_t a = 0; a < d; ++a) b.center[a] = s.points[i * d + a];
-      b.radius = std::clamp(distance(&s.points[i * d]), o.min_radius, o.max_radius);
+      b.radius = distance(&s.points[i * d]);
+      grow_ball(b, distance);
+      b.radius = std::clamp(b.radius, o.min_radius, o.max_radius);
       return b;
     };
     std::vector<Move> moves;

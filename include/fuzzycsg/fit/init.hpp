@@ -113,6 +113,11 @@ int initialise_on_surface(Tree& tree, const Target& target, const SurfaceInitOpt
 // The parameter indices of a primitive node (intrinsic, placement, step).
 std::vector<std::size_t> leaf_parameters(const Node& node);
 
+// Moves a ball's centre away from the nearest boundary sample while that makes it larger (a
+// walk towards the medial axis, on the side of the boundary the centre is on), within
+// [-1, 1]^dim; the radius becomes the distance to the boundary there.
+void grow_ball(Ball& ball, const BoundaryDistance& distance, int steps = 24);
+
 // Sets leaf `node` to a constant: empty (full = false) or everything (full = true). Quadrics
 // take both; families with a translation take only empty (moved far away). Returns false,
 // changing nothing, otherwise.
@@ -128,6 +133,7 @@ struct ReseedOptions {
   double patch_slope = 5.0;      // of surface-patch moves
   double curvature = 0.5;        // of surface-patch moves
   double min_radius = 0.02, max_radius = 0.5;
+  int candidates = 16;     // wrong points drawn per move; the deepest is used
   double min_gain = 1e-6;  // a move must lower the loss by this much
 };
 
@@ -140,7 +146,8 @@ struct ReseedReport {
 
 // One round of re-seeding: leaves that pruning would remove (replacing them by a constant
 // changes the output by less than the threshold) are moved, one at a time, to where the model
-// is wrong, trying a ball at a missed point, a ball and everything-but-a-ball at a wrongly
+// is wrong (the deepest of a few wrong points drawn at random, and the ball there grown by
+// grow_ball), trying a ball at a missed point, a ball and everything-but-a-ball at a wrongly
 // covered point, and a quadric through the boundary sample nearest to either (oriented by its
 // normal); the best move is kept if it lowers the loss on the round's samples. Moved leaves'
 // Adam moments are reset to 0.
