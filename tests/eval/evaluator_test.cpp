@@ -197,6 +197,38 @@ TEST(Evaluator, PartialBlocksAndEmptyInput) {
   }
 }
 
+// Sharp primitives far from their surface: sigmoids of 87..104 are subnormal floats (below
+// 1.2e-38), and so are products of small occupancies in the booleans. The kernel flushes them to
+// 0 (arithmetic on subnormals made training steps several times slower): every value is 0 or a
+// normal float, and the caller's floating-point mode is left as it was.
+TEST(Evaluator, NoSubnormalOccupancies) {
+  const Tree tree = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "root": {"op": "intersection", "children": [
+      {"type": "sphere", "radius": 0.1, "sharpness": 100},
+      {"type": "sphere", "radius": 0.1, "sharpness": 100}]}})",
+                                         "sharp");
+  const Evaluator ev(tree, EvalOptions{2});
+  // Points along x from 0.5 to 1.2: s * (|p| - r) runs over 40..110, so the intersection's
+  // product exp(-2 s (|p| - r)) passes through the whole subnormal range, and so does one
+  // sigmoid near 88.
+  std::vector<float> points;
+  for (int i = 0; i < 4096; ++i) {
+    points.insert(points.end(), {0.5f + 0.7f * static_cast<float>(i) / 4096.0f, 0.0f, 0.0f});
+  }
+  std::vector<float> occ(4096);
+  ev.forward(tree.params.values(), points, occ);
+  int zeros = 0;
+  for (float v : occ) {
+    EXPECT_TRUE(v == 0.0f || std::fpclassify(v) == FP_NORMAL) << v;
+    zeros += v == 0.0f ? 1 : 0;
+  }
+  EXPECT_GT(zeros, 0);
+  // The caller's mode is restored: subnormal arithmetic still works here.
+  volatile float tiny = 1e-30f;
+  volatile float product = tiny * 1e-10f;
+  EXPECT_EQ(std::fpclassify(product), FP_SUBNORMAL);
+}
+
 TEST(Evaluator, WeightedMse) {
   FullTreeOptions o;
   o.leaves = 8;
