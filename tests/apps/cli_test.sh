@@ -137,6 +137,23 @@ expect_error "bad.png" "$bin" fit "$tmp/bad.png" -o "$tmp/f2" -q
 expect_error "empty.off" "$bin" fit "$tmp/empty.off" -o "$tmp/f2" -q
 if [[ ! -e "$tmp/f2/tree.json" ]]; then ok; else bad "a failed fit wrote tree.json"; fi
 
+# fit beyond the paper: starting from the target, re-seeding dead primitives, cosine steps.
+if "$bin" fit "$tmp/disc.json" -o "$tmp/fit-init" --prims 8 --iters 400 --batch 256 --lr 0.01 \
+      --init balls --reseed-every 100 --lr-schedule cosine --metric-points 20000 --threads 2 \
+      >"$tmp/fit-init.log" 2>&1 &&
+    grep -q '"init": "balls"' "$tmp/fit-init/report.json" &&
+    grep -q '"leaves_from_target": 8' "$tmp/fit-init/report.json" &&
+    grep -q '"reseeded_leaves"' "$tmp/fit-init/report.json" &&
+    grep -q "8 primitives started as balls" "$tmp/fit-init.log"; then
+  ok
+else
+  bad "fit --init balls: $(tail -3 "$tmp/fit-init.log")"
+fi
+expect_error "--init: .*surfaces" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --init surfaces -q
+expect_error "--lr-end: must be in \(0, 1\]" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
+  --lr-schedule cosine --lr-end 0 -q
+expect_error "--reseed-every: must be >= 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --reseed-every -5 -q
+
 # Bad input: one line, exit 2, naming the file and the field.
 echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"
 expect_error "broken.json: line [0-9]+, column [0-9]+" "$bin" info "$tmp/broken.json"
