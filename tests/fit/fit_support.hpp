@@ -10,8 +10,10 @@
 #include <utility>
 #include <vector>
 
+#include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/fit/fit.hpp"
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::testing {
@@ -90,6 +92,16 @@ inline double mse(const std::vector<float>& a, const std::vector<float>& b) {
     s += d * d;
   }
   return s / static_cast<double>(a.size());
+}
+
+// The message validate() throws for `o`, or "" when it accepts them.
+inline std::string validation_message(const FitOptions& o, int dim) {
+  try {
+    validate(o, dim);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace fuzzycsg::testing

@@ -54,14 +54,7 @@ TEST(Temperature, RampsGeometricallyThenHolds) {
 }
 
 TEST(FitOptionsValidation, NamesTheFlag) {
-  const auto message = [](FitOptions o) {
-    try {
-      validate(o, 3);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto message = [](const FitOptions& o) { return testing::validation_message(o, 3); };
   FitOptions o;
   o.prims = 48;
   EXPECT_NE(message(o).find("--prims"), std::string::npos);

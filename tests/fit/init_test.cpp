@@ -222,37 +222,26 @@ TEST(InitialiseOnSurface, EveryQuadricTouchesTheTarget) {
   Rng rng(7);
   std::vector<float> sphere, normals;
   target.sample_boundary(20000, rng, sphere, normals);
-  for (int leaf : leaves_in_order(t)) {
+  // How close to 0.5 a leaf's occupancy comes on the sphere, the leaf alone.
+  const auto closest_to_half = [&](const Tree& tree, int leaf) {
     Tree one = single_leaf(PrimitiveType::kQuadric3, 3);
     std::vector<double> p = one.params.values();
-    const Node& n = t.node(leaf);
+    const Node& n = tree.node(leaf);
     for (std::size_t k = 0; k < n.intrinsic.size(); ++k) {
-      p[one.node(one.root).intrinsic[k].index] = t.params[n.intrinsic[k]].value;
+      p[one.node(one.root).intrinsic[k].index] = tree.params[n.intrinsic[k]].value;
     }
     one.params.set_values(p);
     double closest = 1;
     for (float v : testing::occupancy(one, sphere)) {
       closest = std::min(closest, std::abs(static_cast<double>(v) - 0.5));
     }
-    EXPECT_LT(closest, 0.01);
-  }
+    return closest;
+  };
+  for (int leaf : leaves_in_order(t)) EXPECT_LT(closest_to_half(t, leaf), 0.01);
   // Random quadrics miss the sphere far more: the same test fails for most of them.
   const Tree random = make_initial_model(o, 3);
   int touching = 0;
-  for (int leaf : leaves_in_order(random)) {
-    Tree one = single_leaf(PrimitiveType::kQuadric3, 3);
-    std::vector<double> p = one.params.values();
-    const Node& n = random.node(leaf);
-    for (std::size_t k = 0; k < n.intrinsic.size(); ++k) {
-      p[one.node(one.root).intrinsic[k].index] = random.params[n.intrinsic[k]].value;
-    }
-    one.params.set_values(p);
-    double closest = 1;
-    for (float v : testing::occupancy(one, sphere)) {
-      closest = std::min(closest, std::abs(static_cast<double>(v) - 0.5));
-    }
-    touching += closest < 0.01 ? 1 : 0;
-  }
+  for (int leaf : leaves_in_order(random)) touching += closest_to_half(random, leaf) < 0.01 ? 1 : 0;
   EXPECT_LT(touching, 8);
 }
 
@@ -419,14 +408,7 @@ TEST(Fit, TargetInitialisationAndReseedingResumeBitIdentically) {
 }
 
 TEST(FitOptionsValidation, NewFlagsAreChecked) {
-  const auto message = [](FitOptions o) {
-    try {
-      validate(o, 3);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
+  const auto message = [](const FitOptions& o) { return testing::validation_message(o, 3); };
   FitOptions o;
   o.lr_end = 0;
   EXPECT_NE(message(o).find("--lr-end"), std::string::npos);
