@@ -33,6 +33,10 @@ MODES = {
     "lr3-reseed-surface": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
                            "--init", "surface"],
     "lr3-balls": ["--ops", "unified", "--lr", "3e-3", "--init", "balls"],
+    # Primitive families mixed (quadric, sphere, box, cylinder in turn).
+    "mix": ["--ops", "unified", "--family", "mix"],
+    "lr3-reseed-mix": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
+                       "--family", "mix"],
 }
 
 
