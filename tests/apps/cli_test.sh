@@ -137,6 +137,40 @@ expect_error "bad.png" "$bin" fit "$tmp/bad.png" -o "$tmp/f2" -q
 expect_error "empty.off" "$bin" fit "$tmp/empty.off" -o "$tmp/f2" -q
 if [[ ! -e "$tmp/f2/tree.json" ]]; then ok; else bad "a failed fit wrote tree.json"; fi
 
+# fit --sampler release: a picture (a 64 x 64 plain PBM of a disc), the scheme in the report and
+# the checkpoint, a resume that keeps it; refused for other targets and with App. A's flags.
+awk 'BEGIN { print "P1 64 64"; for (r = 0; r < 64; ++r) { line = "";
+  for (c = 0; c < 64; ++c) line = line (((r - 30) ^ 2 + (c - 34) ^ 2 < 400) ? "1 " : "0 "); print line } }' \
+  >"$tmp/disc.pbm"
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --sampler release --image-resolution 64 --prims 4 \
+      --iters 100 --batch 256 --lr 0.01 --metric-points 20000 --threads 2 -q &&
+    grep -q '"scheme": "release"' "$tmp/rel/report.json" &&
+    grep -q '"scheme": "release"' "$tmp/rel/checkpoint.json" && [[ -s "$tmp/rel/fit.png" ]]; then
+  ok
+else
+  bad "fit --sampler release: $(head -c 300 "$tmp/rel/report.json" 2>&1)"
+fi
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --iters 150 --metric-points 20000 -q &&
+    grep -q '"steps": 150' "$tmp/rel/report.json" && grep -q '"scheme": "release"' "$tmp/rel/report.json"; then
+  ok
+else
+  bad "resume of a --sampler release fit"
+fi
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/app-a" --image-resolution 64 --prims 4 --iters 20 --batch 64 \
+      --metric-points 1000 --threads 2 -q && grep -q '"scheme": "appendix-a"' "$tmp/app-a/report.json"; then
+  ok
+else
+  bad "the default scheme is not appendix-a in report.json"
+fi
+expect_error "--sampler: cannot change with --resume" \
+  "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --sampler release -q
+expect_error "^fuzzycsg: error: --sampler release: only for pictures \(the target is a tree\)$" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/f4" --sampler release --iters 10 -q
+if [[ ! -e "$tmp/f4/tree.json" && ! -e "$tmp/f4/checkpoint.json" ]]; then ok; else bad "a refused sampler wrote files"; fi
+expect_error "--surface: not used by --sampler release" \
+  "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler release --surface 0.3 -q
+expect_error "--sampler" "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler uniform -q
+
 # Bad input: one line, exit 2, naming the file and the field.
 echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"
 expect_error "broken.json: line [0-9]+, column [0-9]+" "$bin" info "$tmp/broken.json"
