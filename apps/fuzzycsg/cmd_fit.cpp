@@ -174,9 +174,15 @@ int run_fit_job(const FitJob& job) {
 
   const FitResult r = fit(*target, options, hooks, resume.get());
   if (r.stop == StopReason::kNonFinite) {
+    // Nothing else is written: the trees and the report would describe a model that failed.
+    const bool kept = resume || r.nonfinite_step > 1;
     throw InputError(fmt::format(
-        "{}: the loss became NaN or infinite at step {}; stopped, the last good state is in {}",
-        target_path, r.last_good_step + 1, checkpoint_path.string()));
+        "{}: the loss became NaN or infinite at step {} (is --lr or --init-range too large?); "
+        "stopped, {}",
+        target_path, r.nonfinite_step,
+        kept ? fmt::format("{} keeps the parameters after step {}, the last with a finite loss",
+                           checkpoint_path.string(), r.last_good_step)
+             : std::string("no step had a finite loss, nothing written")));
   }
 
   // Everything is computed before anything is written; each file is written atomically.

@@ -171,6 +171,37 @@ expect_error "--surface: not used by --sampler release" \
   "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler release --surface 0.3 -q
 expect_error "--sampler" "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler uniform -q
 
+# fit: a loss that becomes NaN. A learning rate of 3e37 throws the quadric coefficients past the
+# float range within a few steps. One line naming the step, exit 2, the checkpoint at the last
+# parameters whose loss was finite (step K - 2 when step K fails: the parameters after step
+# K - 1 are those whose loss failed), and no other output.
+expect_error "the loss became NaN or infinite at step [0-9]+ .*checkpoint.json keeps the parameters after step [0-9]+, the last with a finite loss" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --prims 4 --iters 200 --batch 256 --lr 3e37 \
+  --checkpoint-every 1 --threads 2 -q
+nan_step=$(grep -oE 'at step [0-9]+' "$tmp/err" | grep -oE '[0-9]+$')
+kept_step=$(grep -oE 'after step [0-9]+' "$tmp/err" | grep -oE '[0-9]+$')
+if [[ -n $nan_step && -n $kept_step && $nan_step -ge 3 && $kept_step -eq $((nan_step - 2)) ]] &&
+    grep -qE "^ *\"step\": $kept_step,?\$" "$tmp/nan/checkpoint.json" &&
+    ! grep -q null "$tmp/nan/checkpoint.json"; then
+  ok
+else
+  bad "NaN stop: failed at step '$nan_step', kept '$kept_step': $(grep -E '"step"' "$tmp/nan/checkpoint.json")"
+fi
+left=$(cd "$tmp/nan" && ls -A)
+if [[ $left == "checkpoint.json" ]]; then ok; else bad "a NaN stop left: $left"; fi
+# The checkpoint resumes: to the same failure, or, stopped at its own step, to the outputs.
+expect_error "at step $nan_step .*after step $kept_step," \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --resume -q
+if "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --resume --iters "$kept_step" --metric-points 20000 -q &&
+    grep -q '"stop": "iterations"' "$tmp/nan/report.json" && [[ -s "$tmp/nan/tree_pruned.json" ]]; then
+  ok
+else
+  bad "resuming the checkpoint of a NaN stop"
+fi
+expect_error "at step 1 .*no step had a finite loss, nothing written" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan1" --prims 4 --iters 50 --init-range 1e300 -q
+if [[ -z "$(ls -A "$tmp/nan1")" ]]; then ok; else bad "a NaN at the first step wrote: $(ls -A "$tmp/nan1")"; fi
+
 # Bad input: one line, exit 2, naming the file and the field.
 echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"
 expect_error "broken.json: line [0-9]+, column [0-9]+" "$bin" info "$tmp/broken.json"
