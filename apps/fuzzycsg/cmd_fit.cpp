@@ -174,9 +174,15 @@ int run_fit_job(const FitJob& job) {
 
   const FitResult r = fit(*target, options, hooks, resume.get());
   if (r.stop == StopReason::kNonFinite) {
+    // Nothing else is written: the trees and the report would describe a model that failed.
+    const bool kept = resume || r.nonfinite_step > 1;
     throw InputError(fmt::format(
-        "{}: the loss became NaN or infinite at step {}; stopped, the last good state is in {}",
-        target_path, r.last_good_step + 1, checkpoint_path.string()));
+        "{}: the loss became NaN or infinite at step {} (is --lr or --init-range too large?); "
+        "stopped, {}",
+        target_path, r.nonfinite_step,
+        kept ? fmt::format("{} keeps the parameters after step {}, the last with a finite loss",
+                           checkpoint_path.string(), r.last_good_step)
+             : std::string("no step had a finite loss, nothing written")));
   }
 
   // Everything is computed before anything is written; each file is written atomically.
@@ -330,6 +336,15 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--near-distance", o->sampling.near_distance,
                                   "Near points lie within this distance along the normal")
                       ->capture_default_str());
+  model.push_back(
+      cmd->add_option("--sampler", o->sampling.scheme,
+                      "Training points: appendix-a (Liu et al. App. A: --surface on the "
+                      "boundary, --near near it, the rest uniform) or release (pictures: the "
+                      "authors' release, a quarter uniform, the rest with density "
+                      "exp(1/(|d|/5 + 0.2)) at d pixels from the boundary)")
+          ->transform(CLI::CheckedTransformer(std::map<std::string, SamplingScheme>{
+              {"appendix-a", SamplingScheme::kAppendixA}, {"release", SamplingScheme::kRelease}}))
+          ->default_str("appendix-a"));
   model.push_back(cmd->add_option("--prune-threshold", o->prune_threshold,
                                   "Mean squared occupancy change below which a node is redundant")
                       ->capture_default_str());
@@ -356,7 +371,14 @@ Verb register_fit(CLI::App& app) {
   cmd->add_flag("--resume", job->resume, "Continue from OUTDIR/checkpoint.json");
   cmd->add_flag("-q,--quiet", job->quiet, "No progress or summary");
 
-  return {cmd, [job, o, model, iters, time_limit] {
+  return {cmd, [cmd, job, o, model, iters, time_limit] {
+            if (o->sampling.scheme == SamplingScheme::kRelease) {
+              for (const char* flag : {"--surface", "--near", "--near-distance"}) {
+                if (cmd->count(flag) > 0) {
+                  throw InputError(fmt::format("{}: not used by --sampler release", flag));
+                }
+              }
+            }
             job->options = *o;
             job->command_line = command_line();
             job->options.measure = !job->no_metrics;

@@ -270,6 +270,23 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     pool = draw_samples(target, pool_size, o.sampling, rng);
   }
 
+  // A non-finite loss rolls back to the state at the start of the last step whose loss was
+  // finite. Adam writes the new parameters and moments into `prev` and swaps them in, so that
+  // `prev` holds that state without copies.
+  struct {
+    std::vector<double> params, m, v;
+    long pool_step = -1;
+    std::string rng_at_resample;
+    std::size_t curve_size = 0;
+    double loss_sum = 0;
+    long loss_count = 0;
+    long reseeded = 0;
+    bool valid = false;  // a step of this run had a finite loss
+  } prev;
+  prev.params.resize(n);
+  prev.m.resize(n);
+  prev.v.resize(n);
+
   std::vector<double> grad(n);
   std::vector<float> points(batch * static_cast<std::size_t>(dim));
   std::vector<float> labels(batch);
@@ -339,21 +356,49 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     for (std::size_t i = 0; finite && i < n; ++i) finite = std::isfinite(grad[i]);
     if (!finite) {
       result.stop = StopReason::kNonFinite;
+      result.nonfinite_step = st.step + 1;
+      if (prev.valid) {
+        std::swap(st.params, prev.params);
+        std::swap(st.m, prev.m);
+        std::swap(st.v, prev.v);
+        --st.step;
+        st.pool_step = prev.pool_step;
+        st.rng_at_resample = prev.rng_at_resample;
+        st.curve.resize(prev.curve_size);
+        st.loss_sum = prev.loss_sum;
+        st.loss_count = prev.loss_count;
+        st.reseeded = prev.reseeded;
+      }
       break;
     }
+    if (!prev.valid || prev.pool_step != st.pool_step) prev.rng_at_resample = st.rng_at_resample;
+    prev.pool_step = st.pool_step;
+    prev.curve_size = st.curve.size();
+    prev.loss_sum = st.loss_sum;
+    prev.loss_count = st.loss_count;
+    prev.reseeded = st.reseeded;
+    prev.valid = true;
 
-    // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam.
+    // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam, into `prev`.
     const double k = static_cast<double>(st.step + 1);
     const double c1 = 1.0 - std::pow(o.beta1, k);
     const double c2 = 1.0 - std::pow(o.beta2, k);
     const double lr = lr_at(o, st.step);
     for (std::size_t i = 0; i < n; ++i) {
-      if (!free[i]) continue;
-      st.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * grad[i];
-      st.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * grad[i] * grad[i];
-      const double update = lr * (st.m[i] / c1) / (std::sqrt(st.v[i] / c2) + o.adam_eps);
-      st.params[i] = project(st.params[i] - update, ranges[i]);
+      if (!free[i]) {
+        prev.params[i] = st.params[i];
+        prev.m[i] = st.m[i];
+        prev.v[i] = st.v[i];
+        continue;
+      }
+      prev.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * grad[i];
+      prev.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * grad[i] * grad[i];
+      const double update = lr * (prev.m[i] / c1) / (std::sqrt(prev.v[i] / c2) + o.adam_eps);
+      prev.params[i] = project(st.params[i] - update, ranges[i]);
     }
+    std::swap(st.params, prev.params);
+    std::swap(st.m, prev.m);
+    std::swap(st.v, prev.v);
 
     ++st.step;
     if (distance && st.step % o.reseed_every == 0 && st.step < reseed_last) {
@@ -395,7 +440,9 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
   report(true);
   result.last_good_step = st.step;
   result.train_seconds = st.seconds;
-  if (hooks.checkpoint) hooks.checkpoint(model, st);
+  // A first step without a finite loss leaves no state worth keeping (a resumed one is kept).
+  const bool nothing_good = result.stop == StopReason::kNonFinite && !prev.valid && !resume;
+  if (hooks.checkpoint && !nothing_good) hooks.checkpoint(model, st);
 
   result.trained = with_values(model, st.params);
   {

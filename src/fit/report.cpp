@@ -53,7 +53,8 @@ json options_to_json(const FitOptions& o) {
               {"reseed_every", o.reseed_every},
               {"reseed_until", o.reseed_until},
               {"sampling",
-               {{"surface", o.sampling.surface},
+               {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
+                {"surface", o.sampling.surface},
                 {"near", o.sampling.near},
                 {"near_distance", o.sampling.near_distance}}},
               {"time_limit", o.time_limit},
@@ -181,6 +182,13 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.sampling.surface = r.get<double>(s, w + ".sampling", "surface");
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");
   o.sampling.near_distance = r.get<double>(s, w + ".sampling", "near_distance");
+  // Checkpoints written before there was a choice of scheme have none: App. A's.
+  if (s.contains("scheme")) {
+    const std::string scheme = r.get<std::string>(s, w + ".sampling", "scheme");
+    const std::optional<SamplingScheme> parsed = sampling_scheme_from_name(scheme);
+    if (!parsed) r.fail(w + ".sampling.scheme", "must be appendix-a or release");
+    o.sampling.scheme = *parsed;
+  }
   o.time_limit = r.get<double>(j, w, "time_limit");
   o.prune_threshold = r.get<double>(j, w, "prune_threshold");
   o.prune_points = r.get<std::size_t>(j, w, "prune_points");

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <string_view>
 
 #include "fuzzycsg/core/error.hpp"
@@ -256,7 +257,77 @@ class ImageTarget final : public Target {
     }
   }
 
+  void sample_distance_weighted(std::size_t n, Rng& rng,
+                                std::vector<float>& points) const override {
+    std::call_once(weight_table_once_, [this] { build_weight_table(); });
+    const int cells = grid_.size() - 1;
+    const double total = cell_cumulative_.back();
+    points.resize(n * 2);
+    for (std::size_t s = 0; s < n;) {
+      // A cell in proportion to bound * area, a point uniform in it, kept with probability
+      // weight / bound: a density proportional to the weight.
+      const double u = uniform01(rng) * total;
+      const auto k = static_cast<int>(std::min<std::ptrdiff_t>(
+          std::upper_bound(cell_cumulative_.begin(), cell_cumulative_.end(), u) -
+              cell_cumulative_.begin(),
+          static_cast<std::ptrdiff_t>(cell_cumulative_.size()) - 1));
+      const int r = k / cells, c = k % cells;
+      const CellExtent e = cell_extent(r, c);
+      const double x = e.x0 + uniform01(rng) * (e.x1 - e.x0);
+      const double y = e.y0 + uniform01(rng) * (e.y1 - e.y0);
+      const double accept = uniform01(rng) * release_weight(cell_min_distance(r, c));
+      if (accept < release_weight(grid_.centre_distance(x, y))) {
+        points[2 * s] = static_cast<float>(x);
+        points[2 * s + 1] = static_cast<float>(y);
+        ++s;
+      }
+    }
+  }
+
  private:
+  // The weight of the authors' release at a distance of d pixels from the boundary.
+  static double release_weight(double d) { return std::exp(1.0 / (std::abs(d) / 5.0 + 0.2)); }
+
+  // Cell (r, c) lies between the centres of pixels (r, c) and (r + 1, c + 1); the outermost
+  // cells reach the edges of the domain, where centre_distance() is constant.
+  struct CellExtent {
+    double x0, x1, y0, y1;
+  };
+  CellExtent cell_extent(int r, int c) const {
+    const int last = grid_.size() - 2;
+    const double h = grid_.cell();
+    return {c == 0 ? -1.0 : -1.0 + (c + 0.5) * h, c == last ? 1.0 : -1.0 + (c + 1.5) * h,
+            r == last ? -1.0 : 1.0 - (r + 1.5) * h, r == 0 ? 1.0 : 1.0 - (r + 0.5) * h};
+  }
+  // The least |centre_distance| over a cell: 0 where its corners differ in sign, else the least
+  // |corner| (a bilinear function takes its extremes over a cell at the corners).
+  double cell_min_distance(int r, int c) const {
+    const double f[4] = {grid_.centre_distance_at(r, c), grid_.centre_distance_at(r, c + 1),
+                         grid_.centre_distance_at(r + 1, c),
+                         grid_.centre_distance_at(r + 1, c + 1)};
+    const bool in = f[0] < 0;
+    double least = std::abs(f[0]);
+    for (int k = 1; k < 4; ++k) {
+      if ((f[k] < 0) != in) return 0.0;
+      least = std::min(least, std::abs(f[k]));
+    }
+    return least;
+  }
+  // Built on first use: (size - 1)^2 doubles.
+  void build_weight_table() const {
+    const int cells = grid_.size() - 1;
+    cell_cumulative_.resize(static_cast<std::size_t>(cells) * static_cast<std::size_t>(cells));
+    double total = 0.0;
+    for (int r = 0; r < cells; ++r) {
+      for (int c = 0; c < cells; ++c) {
+        const CellExtent e = cell_extent(r, c);
+        total += release_weight(cell_min_distance(r, c)) * (e.x1 - e.x0) * (e.y1 - e.y0);
+        cell_cumulative_[static_cast<std::size_t>(r) * static_cast<std::size_t>(cells) +
+                         static_cast<std::size_t>(c)] = total;
+      }
+    }
+  }
+
   // The field's normal at (x, y); where it vanishes (a feature thinner than the differences'
   // reach), the segment's own normal towards increasing values.
   std::array<double, 2> normal(const Segment& seg, double x, double y) const {
@@ -325,6 +396,8 @@ class ImageTarget final : public Target {
   SignedDistanceGrid grid_;
   std::vector<Segment> segments_;
   std::vector<double> cumulative_length_;
+  mutable std::once_flag weight_table_once_;
+  mutable std::vector<double> cell_cumulative_;  // sample_distance_weighted(): bound * area
   mutable tbb::task_arena arena_;
 };
 

@@ -105,14 +105,28 @@ SignedDistanceGrid::SignedDistanceGrid(std::span<const std::uint8_t> inside, int
   }
 }
 
-double SignedDistanceGrid::value(double x, double y) const {
+template <class F>
+double SignedDistanceGrid::interpolate(double x, double y, F corner) const {
   // The cell (between centres (r, c) and (r + 1, c + 1)) and the position in it.
   const double gc = std::clamp((x + 1.0) / h_ - 0.5, 0.0, n_ - 1.0);
   const double gr = std::clamp((1.0 - y) / h_ - 0.5, 0.0, n_ - 1.0);
   const int c = std::min(static_cast<int>(gc), n_ - 2), r = std::min(static_cast<int>(gr), n_ - 2);
   const double tx = gc - c, ty = gr - r;
-  return (1 - ty) * ((1 - tx) * at(r, c) + tx * at(r, c + 1)) +
-         ty * ((1 - tx) * at(r + 1, c) + tx * at(r + 1, c + 1));
+  return (1 - ty) * ((1 - tx) * corner(r, c) + tx * corner(r, c + 1)) +
+         ty * ((1 - tx) * corner(r + 1, c) + tx * corner(r + 1, c + 1));
+}
+
+double SignedDistanceGrid::value(double x, double y) const {
+  return interpolate(x, y, [this](int r, int c) { return static_cast<double>(at(r, c)); });
+}
+
+double SignedDistanceGrid::centre_distance_at(int row, int col) const {
+  const double v = at(row, col) / h_;
+  return v > 0 ? v + 0.5 : v - 0.5;
+}
+
+double SignedDistanceGrid::centre_distance(double x, double y) const {
+  return interpolate(x, y, [this](int r, int c) { return centre_distance_at(r, c); });
 }
 
 std::array<double, 2> SignedDistanceGrid::normal(double x, double y) const {

@@ -66,6 +66,28 @@ void check_options(const std::string& name, const TargetOptions& options) {
 
 }  // namespace
 
+void Target::sample_distance_weighted(std::size_t, Rng&, std::vector<float>&) const {
+  throw InputError(
+      fmt::format("--sampler release: only for pictures (the target is a {})", kind()));
+}
+
+std::string_view sampling_scheme_name(SamplingScheme scheme) {
+  switch (scheme) {
+    case SamplingScheme::kAppendixA:
+      return "appendix-a";
+    case SamplingScheme::kRelease:
+      return "release";
+  }
+  return "?";
+}
+
+std::optional<SamplingScheme> sampling_scheme_from_name(std::string_view name) {
+  for (SamplingScheme s : {SamplingScheme::kAppendixA, SamplingScheme::kRelease}) {
+    if (name == sampling_scheme_name(s)) return s;
+  }
+  return std::nullopt;
+}
+
 std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options) {
   const std::filesystem::path file(path);
   const std::string& name = path;
@@ -92,8 +114,43 @@ std::vector<float> uniform_points(int dim, std::size_t n, Rng& rng) {
   return points;
 }
 
+namespace {
+
+// Fisher-Yates over whole points.
+void shuffle_points(std::vector<float>& points, std::size_t n, std::size_t d, Rng& rng) {
+  for (std::size_t i = n; i > 1; --i) {
+    const std::size_t j = target_detail::uniform_index(rng, i);
+    if (j != i - 1) {
+      std::swap_ranges(points.begin() + static_cast<std::ptrdiff_t>(j * d),
+                       points.begin() + static_cast<std::ptrdiff_t>((j + 1) * d),
+                       points.begin() + static_cast<std::ptrdiff_t>((i - 1) * d));
+    }
+  }
+}
+
+// SamplingScheme::kRelease: n / 4 uniform, the rest weighted by the distance to the boundary.
+SampleSet draw_release_samples(const Target& target, std::size_t n, Rng& rng) {
+  SampleSet set;
+  set.dim = target.dim();
+  const std::size_t n_uniform = n / 4;
+  target.sample_distance_weighted(n - n_uniform, rng, set.points);
+  const std::vector<float> uniform = uniform_points(set.dim, n_uniform, rng);
+  set.points.insert(set.points.end(), uniform.begin(), uniform.end());
+  shuffle_points(set.points, n, static_cast<std::size_t>(set.dim), rng);
+  set.occupancy.resize(n);
+  target.occupancy(set.points, set.occupancy);
+  return set;
+}
+
+}  // namespace
+
 SampleSet draw_samples(const Target& target, std::size_t n, const SamplingOptions& options,
                        Rng& rng) {
+  if (options.scheme == SamplingScheme::kRelease) return draw_release_samples(target, n, rng);
+  if (options.scheme != SamplingScheme::kAppendixA) {
+    throw InputError(
+        fmt::format("draw_samples: unknown sampling scheme {}", static_cast<int>(options.scheme)));
+  }
   const auto bad = [](const std::string& what, double got) -> void {
     throw InputError(fmt::format("draw_samples: {} (got {})", what, got));
   };
@@ -134,15 +191,7 @@ SampleSet draw_samples(const Target& target, std::size_t n, const SamplingOption
   const std::vector<float> uniform = uniform_points(dim, n_uniform, rng);
   set.points.insert(set.points.end(), uniform.begin(), uniform.end());
 
-  // Fisher-Yates over whole points.
-  for (std::size_t i = n; i > 1; --i) {
-    const std::size_t j = target_detail::uniform_index(rng, i);
-    if (j != i - 1) {
-      std::swap_ranges(set.points.begin() + static_cast<std::ptrdiff_t>(j * d),
-                       set.points.begin() + static_cast<std::ptrdiff_t>((j + 1) * d),
-                       set.points.begin() + static_cast<std::ptrdiff_t>((i - 1) * d));
-    }
-  }
+  shuffle_points(set.points, n, d, rng);
   set.occupancy.resize(n);
   target.occupancy(set.points, set.occupancy);
   return set;

@@ -153,6 +153,70 @@ expect_error "--init: .*surfaces" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --ini
 expect_error "--lr-end: must be in \(0, 1\]" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
   --lr-schedule cosine --lr-end 0 -q
 expect_error "--reseed-every: must be >= 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --reseed-every -5 -q
+# fit --sampler release: a picture (a 64 x 64 plain PBM of a disc), the scheme in the report and
+# the checkpoint, a resume that keeps it; refused for other targets and with App. A's flags.
+awk 'BEGIN { print "P1 64 64"; for (r = 0; r < 64; ++r) { line = "";
+  for (c = 0; c < 64; ++c) line = line (((r - 30) ^ 2 + (c - 34) ^ 2 < 400) ? "1 " : "0 "); print line } }' \
+  >"$tmp/disc.pbm"
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --sampler release --image-resolution 64 --prims 4 \
+      --iters 100 --batch 256 --lr 0.01 --metric-points 20000 --threads 2 -q &&
+    grep -q '"scheme": "release"' "$tmp/rel/report.json" &&
+    grep -q '"scheme": "release"' "$tmp/rel/checkpoint.json" && [[ -s "$tmp/rel/fit.png" ]]; then
+  ok
+else
+  bad "fit --sampler release: $(head -c 300 "$tmp/rel/report.json" 2>&1)"
+fi
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --iters 150 --metric-points 20000 -q &&
+    grep -q '"steps": 150' "$tmp/rel/report.json" && grep -q '"scheme": "release"' "$tmp/rel/report.json"; then
+  ok
+else
+  bad "resume of a --sampler release fit"
+fi
+if "$bin" fit "$tmp/disc.pbm" -o "$tmp/app-a" --image-resolution 64 --prims 4 --iters 20 --batch 64 \
+      --metric-points 1000 --threads 2 -q && grep -q '"scheme": "appendix-a"' "$tmp/app-a/report.json"; then
+  ok
+else
+  bad "the default scheme is not appendix-a in report.json"
+fi
+expect_error "--sampler: cannot change with --resume" \
+  "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --sampler release -q
+expect_error "^fuzzycsg: error: --sampler release: only for pictures \(the target is a tree\)$" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/f4" --sampler release --iters 10 -q
+if [[ ! -e "$tmp/f4/tree.json" && ! -e "$tmp/f4/checkpoint.json" ]]; then ok; else bad "a refused sampler wrote files"; fi
+expect_error "--surface: not used by --sampler release" \
+  "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler release --surface 0.3 -q
+expect_error "--sampler" "$bin" fit "$tmp/disc.pbm" -o "$tmp/f4" --sampler uniform -q
+
+# fit: a loss that becomes NaN. A learning rate of 3e37 throws the quadric coefficients past the
+# float range within a few steps. One line naming the step, exit 2, the checkpoint at the last
+# parameters whose loss was finite (step K - 2 when step K fails: the parameters after step
+# K - 1 are those whose loss failed), and no other output.
+expect_error "the loss became NaN or infinite at step [0-9]+ .*checkpoint.json keeps the parameters after step [0-9]+, the last with a finite loss" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --prims 4 --iters 200 --batch 256 --lr 3e37 \
+  --checkpoint-every 1 --threads 2 -q
+nan_step=$(grep -oE 'at step [0-9]+' "$tmp/err" | grep -oE '[0-9]+$')
+kept_step=$(grep -oE 'after step [0-9]+' "$tmp/err" | grep -oE '[0-9]+$')
+if [[ -n $nan_step && -n $kept_step && $nan_step -ge 3 && $kept_step -eq $((nan_step - 2)) ]] &&
+    grep -qE "^ *\"step\": $kept_step,?\$" "$tmp/nan/checkpoint.json" &&
+    ! grep -q null "$tmp/nan/checkpoint.json"; then
+  ok
+else
+  bad "NaN stop: failed at step '$nan_step', kept '$kept_step': $(grep -E '"step"' "$tmp/nan/checkpoint.json")"
+fi
+left=$(cd "$tmp/nan" && ls -A)
+if [[ $left == "checkpoint.json" ]]; then ok; else bad "a NaN stop left: $left"; fi
+# The checkpoint resumes: to the same failure, or, stopped at its own step, to the outputs.
+expect_error "at step $nan_step .*after step $kept_step," \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --resume -q
+if "$bin" fit "$tmp/disc.json" -o "$tmp/nan" --resume --iters "$kept_step" --metric-points 20000 -q &&
+    grep -q '"stop": "iterations"' "$tmp/nan/report.json" && [[ -s "$tmp/nan/tree_pruned.json" ]]; then
+  ok
+else
+  bad "resuming the checkpoint of a NaN stop"
+fi
+expect_error "at step 1 .*no step had a finite loss, nothing written" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/nan1" --prims 4 --iters 50 --init-range 1e300 -q
+if [[ -z "$(ls -A "$tmp/nan1")" ]]; then ok; else bad "a NaN at the first step wrote: $(ls -A "$tmp/nan1")"; fi
 
 # Bad input: one line, exit 2, naming the file and the field.
 echo '{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {' >"$tmp/broken.json"

@@ -108,7 +108,8 @@ struct Progress {
 struct FitHooks {
   std::function<void(const Progress&)> progress;  // called about every `progress_seconds`
   double progress_seconds = 0.5;
-  // Called every `checkpoint_every` steps (and at the end) with the state to persist.
+  // Called every `checkpoint_every` steps (and at the end, except after a fresh run's first
+  // step fails) with the state to persist.
   std::function<void(const Tree& model, const TrainState&)> checkpoint;
   long checkpoint_every = 0;  // 0: never
 };
@@ -122,7 +123,12 @@ struct FitResult {
   Tree pruned;       // snapped and pruned
   TrainState state;  // the final training state
   StopReason stop = StopReason::kIterations;
-  long last_good_step = 0;    // kNonFinite: the step whose parameters are in `trained`
+  // kNonFinite: the step (counted from 1) whose loss or gradient was NaN or infinite, and the
+  // state kept in `trained`, `state` and the last checkpoint: that at the start of the last
+  // step whose loss was finite (last_good_step = nonfinite_step - 2), or the start of the run
+  // when its first step failed (no checkpoint then, unless resumed).
+  long nonfinite_step = 0;
+  long last_good_step = 0;
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
   long reseeded = 0;           // leaves moved by re-seeding

@@ -31,6 +31,15 @@ class SignedDistanceGrid {
 
   // Bilinear between pixel centres, constant beyond the outermost ones (x, y finite).
   double value(double x, double y) const;
+  // The field of the authors' release (scipy's distance_transform_edt of the mask's outside
+  // minus that of its inside), in pixels: at an outside centre the distance to the nearest
+  // inside centre, at an inside centre minus the distance to the nearest outside centre (so
+  // |value| >= 1 at the centres: value() / cell() moved half a pixel away from 0); bilinear
+  // between centres and constant beyond the outermost ones, as value(). Its zero level set is
+  // value()'s wherever pixels of the two kinds meet along a row or a column.
+  double centre_distance(double x, double y) const;
+  // centre_distance() at the centre of pixel (row, col).
+  double centre_distance_at(int row, int col) const;
   // The unit direction in which value() grows at (x, y), by central differences two pixels
   // either side: on a pixelated circle the exact gradient of the bilinear interpolant swings
   // by up to 45 degrees about the radius at the zero level set, these by about 10 (3 on
@@ -38,6 +47,10 @@ class SignedDistanceGrid {
   std::array<double, 2> normal(double x, double y) const;
 
  private:
+  // Bilinear interpolation of corner(row, col) between the pixel centres.
+  template <class F>
+  double interpolate(double x, double y, F corner) const;
+
   int n_;
   double h_;
   std::vector<float> values_;

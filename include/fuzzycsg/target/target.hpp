@@ -35,9 +35,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <random>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace fuzzycsg {
@@ -62,6 +64,12 @@ class Target {
   // both row-major n x dim.
   virtual void sample_boundary(std::size_t n, Rng& rng, std::vector<float>& points,
                                std::vector<float>& normals) const = 0;
+
+  // Pictures only (SamplingScheme::kRelease): n points in [-1, 1]^2, row-major n x 2, with
+  // density proportional to exp(1 / (|d| / 5 + 0.2)), d = SignedDistanceGrid::centre_distance
+  // in pixels of the target's grid. Other targets throw InputError
+  // ("--sampler release: only for pictures (the target is a mesh)").
+  virtual void sample_distance_weighted(std::size_t n, Rng& rng, std::vector<float>& points) const;
 };
 
 struct TargetOptions {
@@ -74,11 +82,39 @@ struct TargetOptions {
 // empty or degenerate input (a mesh with no volume, an all-white picture, ...).
 std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options = {});
 
-// The training distribution of Liu et al. App. A.
+// How the training points are drawn.
+enum class SamplingScheme {
+  // Liu et al. App. A, for every kind of target: a fraction `surface` on the boundary, `near`
+  // moved along the normal, the rest uniform.
+  kAppendixA,
+  // The 2D sampler of the authors' release (utils/sample_image_points.py of
+  // HTDerekLiu/fuzzy-boolean), for pictures: n / 4 points (rounded down) uniform in [-1, 1]^2,
+  // the others with density proportional to exp(1 / (|d| / 5 + 0.2)), where d is the release's
+  // distance field in pixels (SignedDistanceGrid::centre_distance: scipy's
+  // distance_transform_edt, bilinear between pixel centres). The weight is e^5 ~ 148 on the
+  // boundary, e^2.5 ~ 12 one pixel away and tends to 1 far from it. Points are anywhere in the
+  // square, not at pixel centres. The release draws rounds of n uniform candidates and accepts
+  // each with probability weight / (the round's largest weight), so a candidate nearer the
+  // boundary than all the others of its round is accepted surely rather than in proportion,
+  // which flattens its density slightly at the boundary itself. Here each candidate comes from
+  // a cell between pixel centres chosen in proportion to a bound of the weight over the cell,
+  // and is accepted with probability weight / bound: exactly proportional. Pixels are those of
+  // the target's grid (--image-resolution; the release's is 256, the default). surface, near
+  // and near_distance are not used.
+  kRelease,
+};
+
+// "appendix-a", "release".
+std::string_view sampling_scheme_name(SamplingScheme scheme);
+// The scheme of a name as sampling_scheme_name() spells it; nullopt for any other.
+std::optional<SamplingScheme> sampling_scheme_from_name(std::string_view name);
+
+// The training distribution; by default that of Liu et al. App. A.
 struct SamplingOptions {
   double surface = 0.4;        // fraction on the boundary
   double near = 0.4;           // fraction displaced along the normal by U[-near_distance, ...]
   double near_distance = 0.1;  // the rest is uniform in [-1, 1]^dim
+  SamplingScheme scheme = SamplingScheme::kAppendixA;
 };
 
 struct SampleSet {
@@ -88,7 +124,8 @@ struct SampleSet {
   std::size_t size() const { return occupancy.size(); }
 };
 
-// Draws n labelled points; near-surface points are clipped to the domain.
+// Draws n labelled points; near-surface points are clipped to the domain. Throws InputError for
+// bad options, and for SamplingScheme::kRelease on a target that is not a picture.
 SampleSet draw_samples(const Target& target, std::size_t n, const SamplingOptions& options,
                        Rng& rng);
 

@@ -1,0 +1,81 @@
+// The sampling scheme in the settings of checkpoints and reports.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/fit/report.hpp"
+
+namespace fuzzycsg {
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  std::fwrite(text.data(), 1, text.size(), f);
+  std::fclose(f);
+  return path;
+}
+
+Checkpoint small_checkpoint(SamplingScheme scheme) {
+  Checkpoint ck;
+  ck.target = "logo.png";
+  ck.dim = 2;
+  ck.options.sampling.scheme = scheme;
+  ck.state.params = {1, 2};
+  ck.state.m = {0, 0};
+  ck.state.v = {0, 0};
+  return ck;
+}
+
+std::string read_error(const std::string& path) {
+  try {
+    (void)read_checkpoint(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SamplerSettings, RoundTripThroughACheckpoint) {
+  for (SamplingScheme scheme : {SamplingScheme::kAppendixA, SamplingScheme::kRelease}) {
+    const std::string text = checkpoint_to_string(small_checkpoint(scheme));
+    EXPECT_NE(
+        text.find(std::string("\"scheme\": \"") + std::string(sampling_scheme_name(scheme)) + "\""),
+        std::string::npos);
+    const Checkpoint back = read_checkpoint(write_temp("fuzzycsg_scheme.json", text));
+    EXPECT_EQ(back.options.sampling.scheme, scheme);
+  }
+  EXPECT_NE(fit_options_json(small_checkpoint(SamplingScheme::kRelease).options)
+                .find("\"scheme\": \"release\""),
+            std::string::npos);
+}
+
+TEST(SamplerSettings, OlderCheckpointsAndBadNames) {
+  const std::string good = checkpoint_to_string(small_checkpoint(SamplingScheme::kRelease));
+  const std::string field = "\"scheme\": \"release\",";
+  const std::size_t at = good.find(field);
+  ASSERT_NE(at, std::string::npos);
+
+  // Written before there was a choice: App. A's sampler.
+  std::string older = good;
+  older.erase(at, field.size());
+  const std::string older_path = write_temp("fuzzycsg_scheme_older.json", older);
+  EXPECT_EQ(read_error(older_path), "no error");
+  EXPECT_EQ(read_checkpoint(older_path).options.sampling.scheme, SamplingScheme::kAppendixA);
+
+  std::string bad = good;
+  bad.replace(at, field.size(), "\"scheme\": \"uniform\",");
+  const std::string bad_path = write_temp("fuzzycsg_scheme_bad.json", bad);
+  EXPECT_EQ(read_error(bad_path),
+            bad_path + ": settings.sampling.scheme: must be appendix-a or release");
+  bad.replace(bad.find("\"uniform\""), 9, "4");
+  const std::string number_path = write_temp("fuzzycsg_scheme_number.json", bad);
+  EXPECT_NE(read_error(number_path).find("settings.sampling.scheme"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fuzzycsg
