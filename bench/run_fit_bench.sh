@@ -99,7 +99,7 @@ for c in "${cases[@]}"; do
     logo)
       args=(fit "$data/2D_github_logo.jpg" -o "$out/logo" --prims 128 --iters "$LOGO_ITERS"
         --batch 1024 --resample-every 10 --lr 1e-3 --temperature 1000 --temperature-ramp 0
-        --omega 10 --seed 0 --threads "$THREADS" --image-resolution 256)
+        --omega 10 --seed 0 --threads "$THREADS" --image-resolution 256 --sampler release)
       ;;
     table)
       args=(fit "$data/3D_table_51016.obj" -o "$out/table" --prims 1024 --iters "$TABLE_ITERS"

@@ -65,6 +65,7 @@ struct Evaluator::Impl {
   std::vector<const PrimitiveShape*> shapes;
   std::size_t max_theta = 1;
   int threads = 1;
+  bool flush = true;
   mutable tbb::task_arena arena;
   mutable tbb::enumerable_thread_specific<std::unique_ptr<kernel::Scratch>> scratch;
 
@@ -73,6 +74,7 @@ struct Evaluator::Impl {
         threads(options.threads > 0
                     ? options.threads
                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
+        flush(options.flush_subnormals),
         arena(threads) {
     const auto tape = program.tape();
     shapes.resize(tape.size(), nullptr);
@@ -155,7 +157,7 @@ void Evaluator::forward(std::span<const double> params, std::span<const float> p
   im.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
       kernel::Scratch& s = im.local_scratch();
-      const eval_detail::FlushDenormals ftz;
+      const eval_detail::FlushDenormals ftz(im.flush);
       for (std::size_t c = r.begin(); c != r.end(); ++c) {
         kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, nullptr, nullptr);
       }
@@ -214,7 +216,7 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
   im.arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
       kernel::Scratch& s = im.local_scratch();
-      const eval_detail::FlushDenormals ftz;
+      const eval_detail::FlushDenormals ftz(im.flush);
       for (std::size_t c = r.begin(); c != r.end(); ++c) {
         kernel::run(a, ch.begin(c, n), ch.begin(c + 1, n), s, chunk_grad.data() + c * nc,
                     &chunk_loss[c]);

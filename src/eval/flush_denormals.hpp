@@ -14,7 +14,8 @@ namespace fuzzycsg::eval_detail {
 
 class FlushDenormals {
  public:
-  FlushDenormals() {
+  explicit FlushDenormals(bool enable = true) : enabled_(enable) {
+    if (!enabled_) return;
 #if defined(FUZZYCSG_HAVE_MXCSR)
     saved_ = _mm_getcsr();
     _mm_setcsr(saved_ | kFlushToZero | kDenormalsAreZero);
@@ -25,6 +26,7 @@ class FlushDenormals {
 #endif
   }
   ~FlushDenormals() {
+    if (!enabled_) return;
 #if defined(FUZZYCSG_HAVE_MXCSR)
     _mm_setcsr(saved_);
 #elif defined(__aarch64__)
@@ -35,8 +37,9 @@ class FlushDenormals {
   FlushDenormals& operator=(const FlushDenormals&) = delete;
 
  private:
+  bool enabled_;
 #if defined(FUZZYCSG_HAVE_MXCSR)
-  static constexpr unsigned kFlushToZero = 0x8000;      // MXCSR.FTZ
+  static constexpr unsigned kFlushToZero = 0x8000;       // MXCSR.FTZ
   static constexpr unsigned kDenormalsAreZero = 0x0040;  // MXCSR.DAZ
   unsigned saved_ = 0;
 #elif defined(__aarch64__)

@@ -20,6 +20,11 @@ namespace fuzzycsg {
 
 struct EvalOptions {
   int threads = 0;  // 0: all hardware threads
+  // Subnormal floats (below 1.2e-38: saturated sigmoids of sharp primitives far from their
+  // surface, and their products) are flushed to zero inside the kernel, which keeps the
+  // arithmetic off the processor's slow path; off only to measure what that buys
+  // (bench/subnormal_bench).
+  bool flush_subnormals = true;
 };
 
 // What backward() differentiates.
