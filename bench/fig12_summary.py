@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""Medians over seeds of the runs that bench/fig12_study.py wrote with --json, from one or more
+such files, one row per mesh, tree size and mode: MSE on 2M uniform points after pruning, IoU,
+primitives and nodes after pruning, Chamfer distance, training seconds, and the MSE relative to
+a baseline mode of the same mesh and size.
+
+  /usr/bin/python3 bench/fig12_summary.py fig12.json beyond.json --baseline unified \\
+      --modes unified,lr3,lr3-reseed
+"""
+
+import argparse
+import json
+import re
+import statistics
+import sys
+
+
+def primitives_after(row):
+    m = re.search(r"->\s*(\d+)\+(\d+)", row["nodes"])
+    return int(m.group(1)) if m else None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("files", nargs="+")
+    ap.add_argument("--baseline", default="unified", help="mode the MSE ratio is taken against")
+    ap.add_argument("--modes", help="comma list: only these modes, in this order")
+    args = ap.parse_args()
+
+    rows = []
+    for path in args.files:
+        with open(path) as f:
+            rows.extend(json.load(f))
+    modes = args.modes.split(",") if args.modes else []
+    for r in rows:
+        if r["mode"] not in modes and not args.modes:
+            modes.append(r["mode"])
+    groups = {}
+    for r in rows:
+        if r["mode"] in modes:
+            groups.setdefault((r["mesh"], r["prims"]), {}).setdefault(r["mode"], []).append(r)
+
+    print("| mesh | P | mode | seeds | median MSE | vs baseline | median IoU | "
+          "median primitives kept | median nodes kept | median Chamfer | median train s |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for (mesh, prims) in sorted(groups, key=lambda k: (k[0], k[1])):
+        by_mode = groups[(mesh, prims)]
+        base = by_mode.get(args.baseline)
+        base_mse = statistics.median(r["mse"] for r in base) if base else None
+        for mode in modes:
+            sel = by_mode.get(mode)
+            if not sel:
+                continue
+            mse = statistics.median(r["mse"] for r in sel)
+            ratio = f"{mse / base_mse:.2f}" if base_mse else "-"
+            kept = [p for p in (primitives_after(r) for r in sel) if p is not None]
+            chamfer = [r["chamfer"] for r in sel if r.get("chamfer") is not None]
+            print(f"| {mesh} | {prims} | {mode} | {len(sel)} | {mse:.4f} | {ratio} | "
+                  f"{statistics.median(r['iou'] for r in sel):.3f} | "
+                  f"{statistics.median(kept) if kept else float('nan'):g} | "
+                  f"{statistics.median(r['nodes_after'] for r in sel):g} | "
+                  f"{statistics.median(chamfer) if chamfer else float('nan'):.4f} | "
+                  f"{statistics.median(r['seconds'] for r in sel):.1f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
