@@ -98,6 +98,30 @@ std::vector<PrimitiveType> parse_families(const std::string& spec, int dim) {
   return out;
 }
 
+// An option that takes one of `choices` by name and sets `target` to its value; help and errors
+// list the names ("--init: Check surfaces value in {...}" would otherwise show the numbers).
+template <class E>
+CLI::Option* add_choice(CLI::App* cmd, const std::string& flag, E& target,
+                        std::vector<std::pair<std::string, E>> choices, const std::string& help) {
+  std::vector<std::string> names;
+  std::string current;
+  for (const auto& [name, value] : choices) {
+    names.push_back(name);
+    if (value == target) current = name;
+  }
+  return cmd
+      ->add_option_function<std::string>(
+          flag,
+          [&target, choices](const std::string& v) {
+            for (const auto& [name, value] : choices) {
+              if (name == v) target = value;
+            }
+          },
+          help)
+      ->check(CLI::IsMember(names))
+      ->default_str(current);
+}
+
 void prepare_output_dir(const fs::path& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -270,11 +294,12 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--family", job->family,
                                   "Primitive family: quadric (default), sphere, box, cylinder, "
                                   "plane, circle, rectangle, ..., a comma list, or mix"));
-  model.push_back(cmd->add_option("--ops", o->ops, "Operators: unified, product or godel")
-                      ->transform(CLI::CheckedTransformer(
-                          std::map<std::string, OperatorMode>{{"unified", OperatorMode::kUnified},
-                                                              {"product", OperatorMode::kProduct},
-                                                              {"godel", OperatorMode::kGodel}})));
+  model.push_back(add_choice(cmd, "--ops", o->ops,
+                             {{"unified", OperatorMode::kUnified},
+                              {"product", OperatorMode::kProduct},
+                              {"godel", OperatorMode::kGodel}},
+                             "Operators: unified B_c, or fixed random booleans with product or "
+                             "Goedel logic"));
   model.push_back(cmd->add_option("--batch", o->batch, "Points per step")->capture_default_str());
   model.push_back(cmd->add_option("--pool", o->pool,
                                   "Points drawn at each resampling (0: the batch); steps cycle "
@@ -300,23 +325,21 @@ Verb register_fit(CLI::App& app) {
                       ->capture_default_str());
   model.push_back(cmd->add_option("--init-range", o->init_range, "Initial parameters ~ U[-r, r]")
                       ->capture_default_str());
-  model.push_back(cmd->add_option("--init", o->init,
-                                  "Start: random (U[-r, r], as the paper), balls (a union of balls "
-                                  "covering the target) or surface (random quadrics through target "
-                                  "surface points)")
-                      ->transform(CLI::CheckedTransformer(
-                          std::map<std::string, InitMode>{{"random", InitMode::kRandom},
-                                                          {"balls", InitMode::kTarget},
-                                                          {"surface", InitMode::kSurface}})));
+  model.push_back(add_choice(cmd, "--init", o->init,
+                             {{"random", InitMode::kRandom},
+                              {"balls", InitMode::kTarget},
+                              {"surface", InitMode::kSurface}},
+                             "Start: random (U[-r, r], as the paper), balls (a union of balls "
+                             "covering the target) or surface (random quadrics through target "
+                             "surface points)"));
   model.push_back(cmd->add_option("--init-slope", o->init_slope,
                                   "--init balls|surface: slope of the occupancy across each "
                                   "leaf's surface (0: 20 for balls, 1 for surface)")
                       ->capture_default_str());
-  model.push_back(cmd->add_option("--lr-schedule", o->lr_schedule,
-                                  "Learning rate: constant, or cosine from --lr down to "
-                                  "--lr * --lr-end")
-                      ->transform(CLI::CheckedTransformer(std::map<std::string, LrSchedule>{
-                          {"constant", LrSchedule::kConstant}, {"cosine", LrSchedule::kCosine}})));
+  model.push_back(add_choice(cmd, "--lr-schedule", o->lr_schedule,
+                             {{"constant", LrSchedule::kConstant}, {"cosine", LrSchedule::kCosine}},
+                             "Learning rate: constant, or cosine from --lr down to "
+                             "--lr * --lr-end"));
   model.push_back(cmd->add_option("--lr-end", o->lr_end,
                                   "Cosine schedule: final learning rate as a fraction of --lr")
                       ->capture_default_str());
@@ -336,15 +359,12 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--near-distance", o->sampling.near_distance,
                                   "Near points lie within this distance along the normal")
                       ->capture_default_str());
-  model.push_back(
-      cmd->add_option("--sampler", o->sampling.scheme,
-                      "Training points: appendix-a (Liu et al. App. A: --surface on the "
-                      "boundary, --near near it, the rest uniform) or release (pictures: the "
-                      "authors' release, a quarter uniform, the rest with density "
-                      "exp(1/(|d|/5 + 0.2)) at d pixels from the boundary)")
-          ->transform(CLI::CheckedTransformer(std::map<std::string, SamplingScheme>{
-              {"appendix-a", SamplingScheme::kAppendixA}, {"release", SamplingScheme::kRelease}}))
-          ->default_str("appendix-a"));
+  model.push_back(add_choice(
+      cmd, "--sampler", o->sampling.scheme,
+      {{"appendix-a", SamplingScheme::kAppendixA}, {"release", SamplingScheme::kRelease}},
+      "Training points: appendix-a (Liu et al. App. A: --surface on the boundary, --near near "
+      "it, the rest uniform) or release (pictures: the authors' release, a quarter uniform, the "
+      "rest with density exp(1/(|d|/5 + 0.2)) at d pixels from the boundary)"));
   model.push_back(cmd->add_option("--prune-threshold", o->prune_threshold,
                                   "Mean squared occupancy change below which a node is redundant")
                       ->capture_default_str());
