@@ -451,20 +451,30 @@ ReseedReport reseed_dead_leaves(const Tree& model, const Evaluator& evaluator, c
   const auto restore = [&](std::size_t leaf) {
     for (std::size_t j = 0; j < owned[leaf].size(); ++j) params[owned[leaf][j]] = saved[j];
   };
-  std::vector<std::pair<double, std::size_t>> dead;
+  // A dead leaf that neither emptying nor filling changes at all is masked by its ancestors
+  // (under an intersection with nothing, say): no move of it can help, and it is not tried.
+  // The others are tried in the random order of `order`.
+  std::vector<std::size_t> dead;
   for (std::size_t leaf : order) {
     save(leaf);
-    double change = std::numeric_limits<double>::infinity();
+    double least = std::numeric_limits<double>::infinity(), most = 0.0;
+    bool both = true;
     for (bool full : {false, true}) {
-      if (!set_leaf_constant(model, leaves[leaf], full, params)) continue;
+      if (!set_leaf_constant(model, leaves[leaf], full, params)) {
+        both = false;
+        continue;
+      }
       evaluator.forward(params, s.points, trial);
-      change = std::min(change, distance_of(trial, occ));
+      const double change = distance_of(trial, occ);
+      least = std::min(least, change);
+      most = std::max(most, change);
       restore(leaf);
     }
-    if (change < o.threshold) dead.push_back({change, leaf});
+    if (least >= o.threshold) continue;
+    ++report.dead;
+    if (both && most < o.masked) continue;
+    dead.push_back(leaf);
   }
-  report.dead = static_cast<int>(dead.size());
-  std::sort(dead.begin(), dead.end());
   if (dead.size() > static_cast<std::size_t>(o.max_leaves)) {
     dead.resize(static_cast<std::size_t>(o.max_leaves));
   }
@@ -475,7 +485,7 @@ ReseedReport reseed_dead_leaves(const Tree& model, const Evaluator& evaluator, c
     bool inside;
     std::size_t boundary;  // kPatch: the boundary sample the quadric passes through
   };
-  for (const auto& [change, leaf] : dead) {
+  for (const std::size_t leaf : dead) {
     // Where the model is wrong now: missed inside (false negatives), covered outside (false
     // positives).
     std::vector<std::size_t> missed, spurious;

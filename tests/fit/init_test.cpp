@@ -320,6 +320,36 @@ TEST(Reseed, MovesADeadLeafToWhatTheModelMisses) {
             0.5 * testing::mse(testing::occupancy(model, pts), truth));
 }
 
+TEST(Reseed, SkipsMaskedLeaves) {
+  // An intersection of an empty leaf with a ball at the target: the ball is masked (emptying
+  // or filling it changes nothing), the empty leaf is not (filling it gives the ball).
+  const BallTarget target(3, {-0.3, 0, 0}, 0.25);
+  Tree model = two_leaves_one_dead();
+  std::vector<double> params = model.params.values();
+  const std::vector<int> leaves = leaves_in_order(model);
+  Ball b;
+  b.center = {-0.3, 0, 0};
+  b.radius = 0.25;
+  set_leaf_constant(model, leaves[0], false, params);
+  set_leaf_to_ball(model, leaves[1], b, true, 30.0, params);
+  const Node& op = model.node(model.root);
+  for (int k = 0; k < 4; ++k) params[op.unified[static_cast<std::size_t>(k)].index] = 0.0;
+  params[op.unified[0].index] = std::asin(1.0) / 10.0;  // intersection
+  model.params.set_values(params);
+  const Evaluator ev(model, EvalOptions{2});
+  std::vector<double> m(params.size(), 0.5), v(params.size(), 0.5);
+  Rng rng(11);
+  const BoundaryDistance d(target, 20000, rng);
+  const ReseedReport rep = reseed_dead_leaves(model, ev, target, d, params, m, v, {}, rng);
+  EXPECT_EQ(rep.dead, 2);
+  EXPECT_EQ(rep.tried, 1);
+  EXPECT_EQ(rep.moved, 1);
+  EXPECT_LT(rep.loss_after, 0.5 * rep.loss_before);
+  for (std::size_t k : leaf_parameters(model.node(leaves[1]))) {
+    EXPECT_EQ(params[k], model.params.at(k).value);
+  }
+}
+
 TEST(Reseed, LeavesLiveLeavesAlone) {
   const BallTarget target(3, {-0.3, 0, 0}, 0.25);
   Tree model = two_leaves_one_dead();

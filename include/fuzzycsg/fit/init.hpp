@@ -128,7 +128,8 @@ struct ReseedOptions {
   double near_distance = 0.1;    // of those samples
   double threshold = 1e-3;       // dead: replacing the leaf by a constant changes less (MSE)
   std::size_t max_tested = 256;  // leaves tested per round (at random)
-  int max_leaves = 32;           // dead leaves tried per round, the least useful first
+  int max_leaves = 32;           // dead leaves tried per round, in random order, of those
+  double masked = 1e-7;          // that emptying or filling changes by this (others are masked)
   double slope = 20.0;           // of ball moves
   double patch_slope = 5.0;      // of surface-patch moves
   double curvature = 0.5;        // of surface-patch moves
@@ -145,7 +146,8 @@ struct ReseedReport {
 };
 
 // One round of re-seeding: leaves that pruning would remove (replacing them by a constant
-// changes the output by less than the threshold) are moved, one at a time, to where the model
+// changes the output by less than the threshold) and that are not masked (emptying or filling
+// them changes it at all) are moved, one at a time, in random order, to where the model
 // is wrong (the deepest of a few wrong points drawn at random, and the ball there grown by
 // grow_ball), trying a ball at a missed point, a ball and everything-but-a-ball at a wrongly
 // covered point, and a quadric through the boundary sample nearest to either (oriented by its
