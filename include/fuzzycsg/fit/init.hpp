@@ -3,19 +3,23 @@
 // stopped contributing. Liu et al. (App. A) draw every parameter from U[-0.5, 0.5]; these are
 // fuzzycsg's additions, measured against that in docs/results.md.
 //
-// Initialisation from the target ("--init target"): the target's interior is covered greedily
+// Initialisation from the target, "--init balls": the target's interior is covered greedily
 // by balls — the largest ball that fits inside, then the largest whose centre no earlier ball
 // covers, and so on — with each ball's radius the distance from its centre to the nearest of
 // many boundary samples. Leaf i of the full binary tree becomes ball i, the balls ordered by a
 // recursive median split so that sibling subtrees are neighbours in space, and every unified
 // operator leans to union (weight about 0.9 at the starting temperature, so its type can still
 // change). The tree starts as a union of balls inside the shape instead of random quadrics.
+// "--init surface": every quadric leaf is a random quadric through a random boundary point of
+// the target, with the outward normal there as its gradient; operators stay random.
 //
-// Re-seeding ("--reseed-every N"): every N steps, leaves whose parameters get no gradient any
-// more (Adam's second moment below a thousandth of the median leaf's) are moved, one at a time,
-// to where the model is wrong: a ball at a point the model misses, or at a point it covers
-// wrongly, or (quadrics) everything but such a ball. A move is kept only if it lowers the loss
-// on a fresh sample of the training distribution, so re-seeding never makes the fit worse there.
+// Re-seeding ("--reseed-every N"): every N steps, leaves that pruning would remove (replacing
+// one by a constant changes the output by less than the prune threshold) and that are not
+// masked by their ancestors are moved, one at a time, to where the model is wrong: a ball at a
+// point the model misses, a ball or (quadrics) everything but a ball at a point it covers
+// wrongly, or a quadric through the boundary point nearest to either. A move is kept only if
+// it lowers the loss on a fresh sample of the training distribution, so re-seeding never makes
+// the fit worse there.
 
 #include <array>
 #include <cstddef>
