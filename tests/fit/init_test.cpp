@@ -266,6 +266,25 @@ Tree two_leaves_one_dead() {
   return tree;
 }
 
+// The ball both re-seeding targets below contain.
+Ball left_ball() {
+  Ball b;
+  b.center = {-0.3, 0, 0};
+  b.radius = 0.25;
+  return b;
+}
+
+// One re-seeding round on `model` with `params`, every Adam moment 0.5 (v is returned).
+ReseedReport reseed_once(const Tree& model, const Target& target, std::vector<double>& params,
+                         std::vector<double>& v, std::uint64_t seed, const ReseedOptions& ro = {}) {
+  const Evaluator ev(model, EvalOptions{2});
+  std::vector<double> m(params.size(), 0.5);
+  v.assign(params.size(), 0.5);
+  Rng rng(seed);
+  const BoundaryDistance d(target, 20000, rng);
+  return reseed_dead_leaves(model, ev, target, d, params, m, v, ro, rng);
+}
+
 TEST(Reseed, MovesADeadLeafToWhatTheModelMisses) {
   // The target: balls at x = -0.3 and x = +0.4. The model has the first; its second leaf is
   // empty.
@@ -294,14 +313,10 @@ TEST(Reseed, MovesADeadLeafToWhatTheModelMisses) {
   } target;
 
   const Tree model = two_leaves_one_dead();
-  const Evaluator ev(model, EvalOptions{2});
-  std::vector<double> params = model.params.values();
-  std::vector<double> m(params.size(), 0.5), v(params.size(), 0.5);
-  Rng rng(8);
-  const BoundaryDistance d(target, 20000, rng);
+  std::vector<double> params = model.params.values(), v;
   ReseedOptions ro;
   ro.slope = 30.0;
-  const ReseedReport rep = reseed_dead_leaves(model, ev, target, d, params, m, v, ro, rng);
+  const ReseedReport rep = reseed_once(model, target, params, v, 8, ro);
   EXPECT_EQ(rep.dead, 1);
   EXPECT_EQ(rep.moved, 1);
   EXPECT_LT(rep.loss_after, 0.5 * rep.loss_before);
@@ -325,22 +340,15 @@ TEST(Reseed, SkipsMaskedLeaves) {
   // or filling it changes nothing), the empty leaf is not (filling it gives the ball).
   const BallTarget target(3, {-0.3, 0, 0}, 0.25);
   Tree model = two_leaves_one_dead();
-  std::vector<double> params = model.params.values();
+  std::vector<double> params = model.params.values(), v;
   const std::vector<int> leaves = leaves_in_order(model);
-  Ball b;
-  b.center = {-0.3, 0, 0};
-  b.radius = 0.25;
   set_leaf_constant(model, leaves[0], false, params);
-  set_leaf_to_ball(model, leaves[1], b, true, 30.0, params);
+  set_leaf_to_ball(model, leaves[1], left_ball(), true, 30.0, params);
   const Node& op = model.node(model.root);
   for (int k = 0; k < 4; ++k) params[op.unified[static_cast<std::size_t>(k)].index] = 0.0;
   params[op.unified[0].index] = std::asin(1.0) / 10.0;  // intersection
   model.params.set_values(params);
-  const Evaluator ev(model, EvalOptions{2});
-  std::vector<double> m(params.size(), 0.5), v(params.size(), 0.5);
-  Rng rng(11);
-  const BoundaryDistance d(target, 20000, rng);
-  const ReseedReport rep = reseed_dead_leaves(model, ev, target, d, params, m, v, {}, rng);
+  const ReseedReport rep = reseed_once(model, target, params, v, 11);
   EXPECT_EQ(rep.dead, 2);
   EXPECT_EQ(rep.tried, 1);
   EXPECT_EQ(rep.moved, 1);
@@ -355,21 +363,14 @@ TEST(Reseed, LeavesLiveLeavesAlone) {
   Tree model = two_leaves_one_dead();
   // Make the second leaf the same ball as the first, slightly larger: removing either changes
   // the union a little but no move can lower the loss much.
-  std::vector<double> params = model.params.values();
+  std::vector<double> params = model.params.values(), v;
   const std::vector<int> leaves = leaves_in_order(model);
-  Ball b;
-  b.center = {-0.3, 0, 0};
-  b.radius = 0.25;
-  set_leaf_to_ball(model, leaves[1], b, true, 30.0, params);
+  set_leaf_to_ball(model, leaves[1], left_ball(), true, 30.0, params);
   model.params.set_values(params);
-  const Evaluator ev(model, EvalOptions{2});
-  std::vector<double> m(params.size(), 0.5), v(params.size(), 0.5);
-  Rng rng(10);
-  const BoundaryDistance d(target, 20000, rng);
   ReseedOptions ro;
   ro.threshold = 1e-9;  // nothing is that redundant once the sigmoids overlap
   const std::vector<double> before = params;
-  const ReseedReport rep = reseed_dead_leaves(model, ev, target, d, params, m, v, ro, rng);
+  const ReseedReport rep = reseed_once(model, target, params, v, 10, ro);
   EXPECT_EQ(rep.dead, 0);
   EXPECT_EQ(rep.moved, 0);
   EXPECT_EQ(params, before);
