@@ -73,6 +73,50 @@ HWY_INLINE float sum_lanes(V v) {
   return hn::GetLane(hn::SumOfLanes(d, v));
 }
 
+// 2D quadrics (the plane z = 0): the monomials with z are 0, and adding 0 times their
+// coefficients changes nothing, so these skip them with the same results bit for bit.
+HWY_INLINE V quadric2_value(const QuadricCoefficients& k, const float* mono, std::size_t i) {
+  const D d;
+  V f = hn::MulAdd(k.q[0], hn::Load(d, mono + 0 * kBlock + i), k.q[9]);
+  f = hn::MulAdd(k.q[1], hn::Load(d, mono + 1 * kBlock + i), f);
+  f = hn::MulAdd(k.q[3], hn::Load(d, mono + 3 * kBlock + i), f);
+  f = hn::MulAdd(k.q[6], hn::Load(d, mono + 6 * kBlock + i), f);
+  f = hn::MulAdd(k.q[7], hn::Load(d, mono + 7 * kBlock + i), f);
+  return f;
+}
+
+void quadric2_forward(const float* c, const float* mono, float* out) {
+  const D d;
+  const QuadricCoefficients k(c);
+  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
+    hn::Store(sigmoid_occupancy(k.s, quadric2_value(k, mono, i)), d, out + i);
+  }
+}
+
+void quadric2_backward(const float* c, const float* mono, const float* o_in, const float* adj,
+                       double* grad) {
+  const D d;
+  const QuadricCoefficients k(c);
+  const V one = hn::Set(d, 1.0f);
+  constexpr int kRows[5] = {0, 1, 3, 6, 7};
+  V acc[5], acc_const = hn::Zero(d), acc_s = hn::Zero(d);
+  for (auto& a : acc) a = hn::Zero(d);
+  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
+    const V f = quadric2_value(k, mono, i);
+    const V o = hn::Load(d, o_in + i);
+    const V gu = hn::Mul(hn::Load(d, adj + i), hn::Mul(o, hn::Sub(one, o)));
+    acc_s = hn::NegMulAdd(f, gu, acc_s);
+    const V gf = hn::Neg(hn::Mul(k.s, gu));
+    for (int m = 0; m < 5; ++m) {
+      acc[m] = hn::MulAdd(gf, hn::Load(d, mono + kRows[m] * kBlock + i), acc[m]);
+    }
+    acc_const = hn::Add(acc_const, gf);
+  }
+  for (int m = 0; m < 5; ++m) grad[kRows[m]] += sum_lanes(acc[m]);
+  grad[9] += sum_lanes(acc_const);
+  grad[10] += sum_lanes(acc_s);
+}
+
 void quadric_forward(const float* c, const float* mono, float* out) {
   const D d;
   const QuadricCoefficients k(c);
@@ -328,7 +372,7 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
     if (a.has_quadric3) {
       const float* x = pts;
       const float* y = pts + kBlock;
-      // 2D quadrics run as 3D ones in the plane z = 0.
+      // 2D quadrics run as 3D ones in the plane z = 0 (quadric2_*: without the z terms).
       if (dim == 2) std::fill(pts + 2 * kBlock, pts + 3 * kBlock, 0.0f);
       const float* z = pts + 2 * kBlock;
       for (std::size_t i = 0; i < kBlock; ++i) {
@@ -351,7 +395,11 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
       float* out = values + k * kBlock;
       switch (ins.code) {
         case OpCode::kLeafQuadric3:
-          quadric_forward(c, mono, out);
+          if (dim == 2) {
+            quadric2_forward(c, mono, out);
+          } else {
+            quadric_forward(c, mono, out);
+          }
           break;
         case OpCode::kLeaf:
           leaf_forward(ins, *a.shapes[k], c, dim, pts, out);
@@ -400,7 +448,11 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
       float* g = stack + top * kBlock;
       switch (ins.code) {
         case OpCode::kLeafQuadric3:
-          quadric_backward(c, mono, values + k * kBlock, g, gc);
+          if (dim == 2) {
+            quadric2_backward(c, mono, values + k * kBlock, g, gc);
+          } else {
+            quadric_backward(c, mono, values + k * kBlock, g, gc);
+          }
           --top;
           break;
         case OpCode::kLeaf:
