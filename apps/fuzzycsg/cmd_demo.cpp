@@ -80,9 +80,6 @@ int run_fit_demo(const DemoArgs& a) {
   job.options.seed = a.seed;
   job.options.threads = a.threads;
   job.options.lr = 3e-3;
-  // Re-seeding of dead primitives (beyond the paper; docs/results.md): on this part it lowers
-  // the MSE from 0.0044 to 0.0032 with 13 instead of 12 primitives kept.
-  job.options.reseed_every = std::max(1L, a.iters / 20);
   job.options.metrics.points = 1'000'000;
   job.checkpoint_every = 0;
   job.command_line = command_line();
