@@ -15,6 +15,7 @@
 // clang-format on
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "eval/kernel.hpp"
@@ -41,18 +42,25 @@ struct QuadricCoefficients {
   }
 };
 
-// Monomial rows: 0 xx, 1 yy, 2 zz, 3 xy, 4 yz, 5 zx, 6 x, 7 y, 8 z.
+// Monomial rows: 0 xx, 1 yy, 2 zz, 3 xy, 4 yz, 5 zx, 6 x, 7 y, 8 z. 2D quadrics (kPlanar) lie
+// in the plane z = 0, where the rows with z are 0: adding 0 times their coefficients changes
+// nothing, so they are skipped, with the same results bit for bit.
+template <bool kPlanar>
+constexpr std::array<int, kPlanar ? 5 : 9> kQuadricRows = [] {
+  if constexpr (kPlanar) {
+    return std::array<int, 5>{0, 1, 3, 6, 7};
+  } else {
+    return std::array<int, 9>{0, 1, 2, 3, 4, 5, 6, 7, 8};
+  }
+}();
+
+template <bool kPlanar>
 HWY_INLINE V quadric_value(const QuadricCoefficients& k, const float* mono, std::size_t i) {
   const D d;
-  V f = hn::MulAdd(k.q[0], hn::Load(d, mono + 0 * kBlock + i), k.q[9]);
-  f = hn::MulAdd(k.q[1], hn::Load(d, mono + 1 * kBlock + i), f);
-  f = hn::MulAdd(k.q[2], hn::Load(d, mono + 2 * kBlock + i), f);
-  f = hn::MulAdd(k.q[3], hn::Load(d, mono + 3 * kBlock + i), f);
-  f = hn::MulAdd(k.q[4], hn::Load(d, mono + 4 * kBlock + i), f);
-  f = hn::MulAdd(k.q[5], hn::Load(d, mono + 5 * kBlock + i), f);
-  f = hn::MulAdd(k.q[6], hn::Load(d, mono + 6 * kBlock + i), f);
-  f = hn::MulAdd(k.q[7], hn::Load(d, mono + 7 * kBlock + i), f);
-  f = hn::MulAdd(k.q[8], hn::Load(d, mono + 8 * kBlock + i), f);
+  V f = k.q[9];
+  for (const int m : kQuadricRows<kPlanar>) {
+    f = hn::MulAdd(k.q[m], hn::Load(d, mono + static_cast<std::size_t>(m) * kBlock + i), f);
+  }
   return f;
 }
 
@@ -73,76 +81,41 @@ HWY_INLINE float sum_lanes(V v) {
   return hn::GetLane(hn::SumOfLanes(d, v));
 }
 
-// 2D quadrics (the plane z = 0): the monomials with z are 0, and adding 0 times their
-// coefficients changes nothing, so these skip them with the same results bit for bit.
-HWY_INLINE V quadric2_value(const QuadricCoefficients& k, const float* mono, std::size_t i) {
-  const D d;
-  V f = hn::MulAdd(k.q[0], hn::Load(d, mono + 0 * kBlock + i), k.q[9]);
-  f = hn::MulAdd(k.q[1], hn::Load(d, mono + 1 * kBlock + i), f);
-  f = hn::MulAdd(k.q[3], hn::Load(d, mono + 3 * kBlock + i), f);
-  f = hn::MulAdd(k.q[6], hn::Load(d, mono + 6 * kBlock + i), f);
-  f = hn::MulAdd(k.q[7], hn::Load(d, mono + 7 * kBlock + i), f);
-  return f;
-}
-
-void quadric2_forward(const float* c, const float* mono, float* out) {
-  const D d;
-  const QuadricCoefficients k(c);
-  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
-    hn::Store(sigmoid_occupancy(k.s, quadric2_value(k, mono, i)), d, out + i);
-  }
-}
-
-void quadric2_backward(const float* c, const float* mono, const float* o_in, const float* adj,
-                       double* grad) {
-  const D d;
-  const QuadricCoefficients k(c);
-  const V one = hn::Set(d, 1.0f);
-  constexpr int kRows[5] = {0, 1, 3, 6, 7};
-  V acc[5], acc_const = hn::Zero(d), acc_s = hn::Zero(d);
-  for (auto& a : acc) a = hn::Zero(d);
-  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
-    const V f = quadric2_value(k, mono, i);
-    const V o = hn::Load(d, o_in + i);
-    const V gu = hn::Mul(hn::Load(d, adj + i), hn::Mul(o, hn::Sub(one, o)));
-    acc_s = hn::NegMulAdd(f, gu, acc_s);
-    const V gf = hn::Neg(hn::Mul(k.s, gu));
-    for (int m = 0; m < 5; ++m) {
-      acc[m] = hn::MulAdd(gf, hn::Load(d, mono + kRows[m] * kBlock + i), acc[m]);
-    }
-    acc_const = hn::Add(acc_const, gf);
-  }
-  for (int m = 0; m < 5; ++m) grad[kRows[m]] += sum_lanes(acc[m]);
-  grad[9] += sum_lanes(acc_const);
-  grad[10] += sum_lanes(acc_s);
-}
-
+template <bool kPlanar>
 void quadric_forward(const float* c, const float* mono, float* out) {
   const D d;
   const QuadricCoefficients k(c);
   for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
-    hn::Store(sigmoid_occupancy(k.s, quadric_value(k, mono, i)), d, out + i);
+    hn::Store(sigmoid_occupancy(k.s, quadric_value<kPlanar>(k, mono, i)), d, out + i);
   }
 }
 
+template <bool kPlanar>
 void quadric_backward(const float* c, const float* mono, const float* o_in, const float* adj,
                       double* grad) {
   const D d;
   const QuadricCoefficients k(c);
   const V one = hn::Set(d, 1.0f);
-  V acc[11];
+  constexpr auto& rows = kQuadricRows<kPlanar>;
+  V acc[rows.size()];
+  V acc_const = hn::Zero(d), acc_s = hn::Zero(d);
   for (auto& a : acc) a = hn::Zero(d);
   for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
-    const V f = quadric_value(k, mono, i);
+    const V f = quadric_value<kPlanar>(k, mono, i);
     const V o = hn::Load(d, o_in + i);
     // g u with u = o (1 - o):  dL/ds = -sum f g u,  dL/df = -s g u.
     const V gu = hn::Mul(hn::Load(d, adj + i), hn::Mul(o, hn::Sub(one, o)));
-    acc[10] = hn::NegMulAdd(f, gu, acc[10]);
+    acc_s = hn::NegMulAdd(f, gu, acc_s);
     const V gf = hn::Neg(hn::Mul(k.s, gu));
-    for (int m = 0; m < 9; ++m) acc[m] = hn::MulAdd(gf, hn::Load(d, mono + m * kBlock + i), acc[m]);
-    acc[9] = hn::Add(acc[9], gf);
+    for (std::size_t m = 0; m < rows.size(); ++m) {
+      acc[m] = hn::MulAdd(gf, hn::Load(d, mono + static_cast<std::size_t>(rows[m]) * kBlock + i),
+                          acc[m]);
+    }
+    acc_const = hn::Add(acc_const, gf);
   }
-  for (int m = 0; m < 11; ++m) grad[m] += sum_lanes(acc[m]);
+  for (std::size_t m = 0; m < rows.size(); ++m) grad[rows[m]] += sum_lanes(acc[m]);
+  grad[9] += sum_lanes(acc_const);
+  grad[10] += sum_lanes(acc_s);
 }
 
 // z = a x + b y + d x y
@@ -372,7 +345,7 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
     if (a.has_quadric3) {
       const float* x = pts;
       const float* y = pts + kBlock;
-      // 2D quadrics run as 3D ones in the plane z = 0 (quadric2_*: without the z terms).
+      // 2D quadrics run as 3D ones in the plane z = 0 (without the z rows: kQuadricRows).
       if (dim == 2) std::fill(pts + 2 * kBlock, pts + 3 * kBlock, 0.0f);
       const float* z = pts + 2 * kBlock;
       for (std::size_t i = 0; i < kBlock; ++i) {
@@ -396,9 +369,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
       switch (ins.code) {
         case OpCode::kLeafQuadric3:
           if (dim == 2) {
-            quadric2_forward(c, mono, out);
+            quadric_forward<true>(c, mono, out);
           } else {
-            quadric_forward(c, mono, out);
+            quadric_forward<false>(c, mono, out);
           }
           break;
         case OpCode::kLeaf:
@@ -449,9 +422,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
       switch (ins.code) {
         case OpCode::kLeafQuadric3:
           if (dim == 2) {
-            quadric2_backward(c, mono, values + k * kBlock, g, gc);
+            quadric_backward<true>(c, mono, values + k * kBlock, g, gc);
           } else {
-            quadric_backward(c, mono, values + k * kBlock, g, gc);
+            quadric_backward<false>(c, mono, values + k * kBlock, g, gc);
           }
           --top;
           break;
