@@ -256,7 +256,7 @@ int run_fit_job(const FitJob& job) {
       fmt::print("fit: {} of {} operators changed type during training\n", r.operators_changed,
                  r.operators_total);
     }
-    if (options.init == InitMode::kTarget) {
+    if (options.init == InitMode::kBalls) {
       fmt::print("fit: {} primitives started as balls inside the target\n", r.initialised_leaves);
     }
     if (options.reseed_every > 0) {
@@ -325,13 +325,12 @@ Verb register_fit(CLI::App& app) {
                       ->capture_default_str());
   model.push_back(cmd->add_option("--init-range", o->init_range, "Initial parameters ~ U[-r, r]")
                       ->capture_default_str());
-  model.push_back(add_choice(cmd, "--init", o->init,
-                             {{"random", InitMode::kRandom},
-                              {"balls", InitMode::kTarget},
-                              {"surface", InitMode::kSurface}},
-                             "Start: random (U[-r, r], as the paper), balls (a union of balls "
-                             "covering the target) or surface (random quadrics through target "
-                             "surface points)"));
+  model.push_back(add_choice(
+      cmd, "--init", o->init,
+      {{"random", InitMode::kRandom}, {"balls", InitMode::kBalls}, {"surface", InitMode::kSurface}},
+      "Start: random (U[-r, r], as the paper), balls (a union of balls "
+      "covering the target) or surface (random quadrics through target "
+      "surface points)"));
   model.push_back(cmd->add_option("--init-slope", o->init_slope,
                                   "--init balls|surface: slope of the occupancy across each "
                                   "leaf's surface (0: 20 for balls, 1 for surface)")

@@ -220,7 +220,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
   validate(o, dim);
   Tree model = make_initial_model(o, dim);
   FitResult result;
-  if (o.init == InitMode::kTarget) {
+  if (o.init == InitMode::kBalls) {
     TargetInitOptions io;
     io.temperature = temperature_at(o, 0);
     io.seed = o.seed;

@@ -18,7 +18,7 @@ std::string init_mode_name(InitMode m) {
   switch (m) {
     case InitMode::kRandom:
       return "random";
-    case InitMode::kTarget:
+    case InitMode::kBalls:
       return "balls";
     case InitMode::kSurface:
       return "surface";
@@ -146,7 +146,7 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   if (init == "random") {
     o.init = InitMode::kRandom;
   } else if (init == "balls") {
-    o.init = InitMode::kTarget;
+    o.init = InitMode::kBalls;
   } else if (init == "surface") {
     o.init = InitMode::kSurface;
   } else {

@@ -28,8 +28,8 @@
 namespace fuzzycsg {
 
 // How the model's parameters start: U[-init_range, init_range] (App. A), or from the target
-// (fuzzycsg/fit/init.hpp: a union of balls covering it).
-enum class InitMode { kRandom, kTarget, kSurface };
+// (fuzzycsg/fit/init.hpp): a union of balls covering it, or quadrics through its surface.
+enum class InitMode { kRandom, kBalls, kSurface };
 // The learning rate over the steps: constant (App. A), or a cosine from lr down to lr * lr_end.
 enum class LrSchedule { kConstant, kCosine };
 
@@ -40,7 +40,7 @@ struct FitOptions {
   OperatorMode ops = OperatorMode::kUnified;
   InitMode init = InitMode::kRandom;
   double init_range = 0.5;  // parameters ~ U[-init_range, init_range] (App. A)
-  // kTarget, kSurface: the occupancy's slope across the leaves' surfaces at the start (0: 20 for
+  // kBalls, kSurface: the occupancy's slope across the leaves' surfaces at the start (0: 20 for
   // balls, 1 — the quadrics' default sharpness — for surface patches).
   double init_slope = 0.0;
   double temperature = 1000.0;  // t (the final value when ramped)
@@ -132,7 +132,7 @@ struct FitResult {
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
   long reseeded = 0;           // leaves moved by re-seeding
-  int initialised_leaves = 0;  // InitMode::kTarget: leaves started as balls
+  int initialised_leaves = 0;  // InitMode::kBalls: leaves started as balls
   PruneReport prune;
   std::optional<Metrics> metrics_trained, metrics_pruned;
   double train_seconds = 0, prune_seconds = 0, metrics_seconds = 0;
