@@ -300,6 +300,12 @@ Verb register_fit(CLI::App& app) {
                               {"godel", OperatorMode::kGodel}},
                              "Operators: unified B_c, or fixed random booleans with product or "
                              "Goedel logic"));
+  model.push_back(
+      add_choice(cmd, "--op-init", o->op_init,
+                 {{"uniform", OperatorInit::kUniform}, {"balanced", OperatorInit::kBalanced}},
+                 "Unified operators' start: uniform (logits U[-r, r], as the paper: a "
+                 "difference half of the time) or balanced (union, intersection, "
+                 "difference a third each, as the fixed baselines)"));
   model.push_back(cmd->add_option("--batch", o->batch, "Points per step")->capture_default_str());
   model.push_back(cmd->add_option("--pool", o->pool,
                                   "Points drawn at each resampling (0: the batch); steps cycle "

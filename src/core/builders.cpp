@@ -1,5 +1,6 @@
 #include "fuzzycsg/core/builders.hpp"
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <random>
@@ -47,8 +48,9 @@ class Builder {
     if (o_.ops == OperatorMode::kUnified) {
       n.op = OpKind::kUnified;
       n.unified_logits = true;
+      const std::array<double, 4> logits = unified_logits();
       for (int i = 0; i < 4; ++i) {
-        n.unified.push_back(param(path + ".logits[" + std::to_string(i) + "]", uniform(), false));
+        n.unified.push_back(param(path + ".logits[" + std::to_string(i) + "]", logits[i], false));
       }
       n.temperature = param(path + ".temperature", o_.temperature, true, Range::positive());
       n.omega = param(path + ".omega", o_.omega, true);
@@ -60,6 +62,29 @@ class Builder {
     }
     tree_.nodes.push_back(std::move(n));
     return static_cast<int>(tree_.nodes.size()) - 1;
+  }
+
+  // The logits of one unified operator (OperatorInit).
+  std::array<double, 4> unified_logits() {
+    std::array<double, 4> c{};
+    if (o_.op_init == OperatorInit::kUniform) {
+      for (double& v : c) v = uniform();
+      return c;
+    }
+    // Union, intersection, difference a third each; the last two entries are A - B and B - A.
+    constexpr int kType[6] = {0, 0, 1, 1, 2, 3};
+    const int want = kType[rng_() % 6];
+    // A handful of draws on average; bounded for degenerate settings (ω or init_range 0, where
+    // every draw has the same argmax), which keep the last draw.
+    for (int attempt = 0; attempt < 1000; ++attempt) {
+      int best = 0;
+      for (int i = 0; i < 4; ++i) {
+        c[i] = uniform();
+        if (std::sin(o_.omega * c[i]) > std::sin(o_.omega * c[best])) best = i;
+      }
+      if (best == want) break;
+    }
+    return c;
   }
 
   int leaf(const std::string& path) {

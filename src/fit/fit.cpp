@@ -194,6 +194,7 @@ Tree make_initial_model(const FitOptions& o, int dim) {
   t.family = dim == 3 ? PrimitiveType::kQuadric3 : PrimitiveType::kQuadric2;
   t.families = o.families;
   t.ops = o.ops;
+  t.op_init = o.op_init;
   t.init_range = o.init_range;
   t.seed = o.seed;
   t.temperature = o.temperature;

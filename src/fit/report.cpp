@@ -32,6 +32,7 @@ json options_to_json(const FitOptions& o) {
   return json{{"prims", o.prims},
               {"families", families},
               {"ops", std::string(operator_mode_name(o.ops))},
+              {"op_init", o.op_init == OperatorInit::kBalanced ? "balanced" : "uniform"},
               {"init", init_mode_name(o.init)},
               {"init_range", o.init_range},
               {"init_slope", o.init_slope},
@@ -141,6 +142,15 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
     o.ops = OperatorMode::kGodel;
   } else {
     r.fail(w + ".ops", "must be unified, product or godel");
+  }
+  // Checkpoints written before there was a choice have none: App. A's uniform logits.
+  const std::string op_init = r.get_or<std::string>(j, w, "op_init", "uniform");
+  if (op_init == "uniform") {
+    o.op_init = OperatorInit::kUniform;
+  } else if (op_init == "balanced") {
+    o.op_init = OperatorInit::kBalanced;
+  } else {
+    r.fail(w + ".op_init", "must be uniform or balanced");
   }
   const std::string init = r.get_or<std::string>(j, w, "init", "random");
   if (init == "random") {

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+
 #include "fuzzycsg/core/error.hpp"
 
 namespace fuzzycsg {
@@ -60,6 +63,47 @@ TEST(Builders, FixedBooleanModesAndFamilies) {
     EXPECT_NE(n.op, OpKind::kUnified);
   }
   EXPECT_EQ(ops, 31);
+}
+
+// The share of each operator type (argmax of sin(ω c̃)): union, intersection, A - B, B - A.
+std::array<double, 4> type_shares(const FullTreeOptions& o) {
+  const Tree t = make_full_binary_tree(o);
+  std::array<double, 4> share{};
+  int ops = 0;
+  for (const Node& n : t.nodes) {
+    if (n.kind != NodeKind::kOperator) continue;
+    EXPECT_EQ(n.op, OpKind::kUnified);
+    int best = 0;
+    for (int i = 0; i < 4; ++i) {
+      const double v = t.params.at(n.unified[i].index).value;
+      EXPECT_LE(std::abs(v), o.init_range);
+      if (std::sin(o.omega * v) > std::sin(o.omega * t.params.at(n.unified[best].index).value)) {
+        best = i;
+      }
+    }
+    share[best] += 1.0;
+    ++ops;
+  }
+  for (double& s : share) s /= ops;
+  return share;
+}
+
+TEST(Builders, OperatorInitDrawsTheTypesAsDocumented) {
+  FullTreeOptions o;
+  o.leaves = 4096;  // 4095 operators: a share's standard error is below 0.008
+  o.seed = 3;
+  const std::array<double, 4> uniform = type_shares(o);
+  for (double s : uniform) EXPECT_NEAR(s, 0.25, 0.03);
+  o.op_init = OperatorInit::kBalanced;
+  const std::array<double, 4> balanced = type_shares(o);
+  EXPECT_NEAR(balanced[0], 1.0 / 3.0, 0.03);
+  EXPECT_NEAR(balanced[1], 1.0 / 3.0, 0.03);
+  EXPECT_NEAR(balanced[2], 1.0 / 6.0, 0.03);
+  EXPECT_NEAR(balanced[3], 1.0 / 6.0, 0.03);
+  // Degenerate settings end (ω = 0: every draw has the same argmax).
+  o.omega = 0.0;
+  o.leaves = 64;
+  EXPECT_NO_THROW(make_full_binary_tree(o));
 }
 
 TEST(Builders, RejectsBadOptions) {

@@ -72,7 +72,7 @@ TEST(SamplerSettings, OlderCheckpointsAndBadNames) {
   const std::string bad_path = write_temp("fuzzycsg_scheme_bad.json", bad);
   EXPECT_EQ(read_error(bad_path),
             bad_path + ": settings.sampling.scheme: must be appendix-a or release");
-  bad.replace(bad.find("\"uniform\""), 9, "4");
+  bad.replace(bad.find("\"uniform\"", at), 9, "4");
   const std::string number_path = write_temp("fuzzycsg_scheme_number.json", bad);
   EXPECT_NE(read_error(number_path).find("settings.sampling.scheme"), std::string::npos);
 }

@@ -16,12 +16,21 @@ enum class OperatorMode {
   kGodel,    // fixed booleans, random, Gödel logic (min/max)
 };
 
+// How the unified operators' logits c̃ start. kUniform: every entry U[-init_range, init_range]
+// (App. A), so that each of the four types (union, intersection, A - B, B - A) is the argmax of
+// sin(ω c̃) a quarter of the time, and a random operator is a difference half of the time.
+// kBalanced: the type is drawn first — union, intersection and difference a third each, as the
+// fixed baselines draw theirs, the two directions of difference a sixth each — and c̃ is drawn
+// from U[-init_range, init_range]^4 until its argmax is that type.
+enum class OperatorInit { kUniform, kBalanced };
+
 struct FullTreeOptions {
   int dim = 3;
   int leaves = 64;  // a power of two
   PrimitiveType family = PrimitiveType::kQuadric3;
   std::vector<PrimitiveType> families;  // when non-empty, leaf i is families[i % size] (a mix)
   OperatorMode ops = OperatorMode::kUnified;
+  OperatorInit op_init = OperatorInit::kUniform;
   double init_range = 0.5;  // every free number drawn from U[-init_range, init_range] ...
   std::uint64_t seed = 0;
   double temperature = 1000.0;

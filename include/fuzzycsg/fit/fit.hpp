@@ -38,6 +38,7 @@ struct FitOptions {
   int prims = 64;                       // leaves of the full binary tree, a power of two
   std::vector<PrimitiveType> families;  // leaf i is families[i % size]; empty: quadric of dim
   OperatorMode ops = OperatorMode::kUnified;
+  OperatorInit op_init = OperatorInit::kUniform;  // unified operators' logits (builders.hpp)
   InitMode init = InitMode::kRandom;
   double init_range = 0.5;  // parameters ~ U[-init_range, init_range] (App. A)
   // kBalls, kSurface: the occupancy's slope across the leaves' surfaces at the start (0: 20 for
