@@ -10,7 +10,10 @@ the seeds.
       --meshes cgal_fandisk.off --prims 32,64,256 --seeds 0,1 --iters 20000
 
 Modes: "unified" (our default: the temperature rises from 10 to 1000 over the first 30% of the steps),
-"unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel".
+"unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel"; the
+variants of docs/results.md: "unified-balanced" and "unified-t1000-balanced" (--op-init balanced),
+"lr3*" (lr 3e-3, re-seeding, starts from the target), "lr3-product*" (the same with product
+booleans), "mix" (mixed primitive families).
 """
 
 import argparse
