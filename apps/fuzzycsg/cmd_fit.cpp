@@ -2,7 +2,8 @@
 //
 // Inverse CSG (Liu et al. 2024): fits a full binary tree of fuzzy booleans to a mesh, a picture or
 // a tree file, snaps and prunes it, measures it, and writes OUTDIR/tree.json (trained),
-// tree_pruned.json, report.json, loss.png (and for 2D targets target.png, fit.png), with
+// tree_pruned.json, report.json, loss.png (and for 2D targets target.png, fit.png and
+// contours.svg, for 3D slices.png and mesh.obj: the pruned tree's 0.5 level set), with
 // OUTDIR/checkpoint.json every --checkpoint-every steps for --resume.
 
 #include <fmt/format.h>
@@ -21,6 +22,7 @@
 #include "fuzzycsg/fit/report.hpp"
 #include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "fuzzycsg/mesh/mesh.hpp"
 
 namespace fuzzycsg::app {
 
@@ -245,6 +247,23 @@ int run_fit_job(const FitJob& job) {
     io::write_text_file_atomic(out / "slices.png",
                                slices_png(*target, r.pruned, 256, options.threads));
   }
+  // The pruned tree's 0.5 level set (nothing when it is empty).
+  MeshOptions mo;
+  mo.threads = options.threads;
+  std::string surface;
+  if (dim == 3) {
+    const TriangleMesh mesh = extract_mesh(r.pruned, r.pruned.params.values(), mo);
+    if (!mesh.triangles.empty()) {
+      write_mesh(mesh, out / "mesh.obj");
+      surface = ", mesh.obj";
+    }
+  } else {
+    const Contours contours = extract_contours(r.pruned, r.pruned.params.values(), mo);
+    if (!contours.loops.empty()) {
+      write_contours(contours, r.pruned, out / "contours.svg");
+      surface = ", contours.svg";
+    }
+  }
   io::write_text_file_atomic(out / "report.json", report);
 
   if (!job.quiet) {
@@ -271,8 +290,8 @@ int run_fit_job(const FitJob& job) {
     };
     line("trained", r.metrics_trained);
     line("pruned", r.metrics_pruned);
-    fmt::print("fit: wrote {}/{{tree.json, tree_pruned.json, report.json, loss.png{}}}\n",
-               out.string(), dim == 2 ? ", target.png, fit.png" : ", slices.png");
+    fmt::print("fit: wrote {}/{{tree.json, tree_pruned.json, report.json, loss.png{}{}}}\n",
+               out.string(), dim == 2 ? ", target.png, fit.png" : ", slices.png", surface);
   }
   return 0;
 }

@@ -74,7 +74,7 @@ if "$bin" info "$tmp/sphere.json" | grep -qE "primitives +2" &&
 if "$bin" demo --gradient --resolution 32 | grep -q "volume"; then ok; else bad "demo --gradient"; fi
 if "$bin" demo -o "$tmp/demo" --iters 300 --prims 8 --threads 2 >"$tmp/demo.log" 2>&1 &&
     [[ -s "$tmp/demo/tree.json" && -s "$tmp/demo/tree_pruned.json" && -s "$tmp/demo/report.json" &&
-       -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" ]]; then
+       -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" && -s "$tmp/demo/mesh.obj" ]]; then
   ok
 else
   bad "demo: $(tail -5 "$tmp/demo.log")"
@@ -90,7 +90,7 @@ JSON
 if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --prims 4 --iters 200 --batch 256 --lr 0.01 \
       --metric-points 20000 --checkpoint-every 50 --threads 2 >"$tmp/fit.log" 2>&1; then
   ok
-  for f in tree.json tree_pruned.json report.json loss.png target.png fit.png checkpoint.json; do
+  for f in tree.json tree_pruned.json report.json loss.png target.png fit.png contours.svg checkpoint.json; do
     if [[ -s "$tmp/fit/$f" ]]; then ok; else bad "fit did not write $f"; fi
   done
   if grep -q '"stop": "iterations"' "$tmp/fit/report.json" && grep -q '"steps": 200' "$tmp/fit/report.json" &&
@@ -255,6 +255,37 @@ for ex in "$src"/examples/*.json; do
     bad "example $ex"
   fi
 done
+
+# mesh: a closed mesh in each format, contours of a 2D tree, and its errors.
+for ext in obj stl ply; do
+  if "$bin" mesh "$tmp/sphere.json" -o "$tmp/sphere.$ext" --resolution 24 >"$tmp/out" &&
+    [[ -s "$tmp/sphere.$ext" ]] && grep -q "triangles" "$tmp/out"; then
+    ok
+  else
+    bad "mesh to .$ext"
+  fi
+done
+if "$bin" mesh "$src/examples/cart_2d.json" -o "$tmp/cart.svg" --resolution 64 >/dev/null &&
+  grep -q "<path" "$tmp/cart.svg"; then
+  ok
+else
+  bad "mesh of a 2D tree to SVG"
+fi
+expect_error "resolution" "$bin" mesh "$tmp/sphere.json" -o "$tmp/r0.obj" --resolution 0
+expect_error "resolution" "$bin" mesh "$tmp/sphere.json" -o "$tmp/r1.obj" --resolution 1000000
+expect_error "unknown mesh format" "$bin" mesh "$tmp/sphere.json" -o "$tmp/x.xyz"
+expect_error "cannot write" "$bin" mesh "$tmp/sphere.json" -o "$tmp/no/such/dir/x.obj"
+cat >"$tmp/far.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+ "root": {"type": "sphere", "radius": 0.2, "translate": [5, 5, 5]}}
+JSON
+expect_error "far.json: the 0.5 level set is empty" "$bin" mesh "$tmp/far.json" -o "$tmp/far.obj"
+if [[ ! -e "$tmp/far.obj" && ! -e "$tmp/r0.obj" && ! -e "$tmp/x.xyz" ]]; then ok; else bad "mesh error left a file"; fi
+if "$bin" mesh "$tmp/far.json" -o "$tmp/far.obj" --allow-empty >/dev/null && [[ -e "$tmp/far.obj" ]]; then
+  ok
+else
+  bad "mesh --allow-empty"
+fi
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

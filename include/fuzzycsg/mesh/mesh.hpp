@@ -1,0 +1,90 @@
+#pragma once
+// The 0.5 level set of a tree's occupancy: a closed, consistently oriented triangle mesh in 3D,
+// closed polylines in 2D.
+//
+// The domain (the tree's "domain", default [-1, 1]^dim) is divided into `resolution` cells per
+// axis. An octree over the cells is refined only where occupancy_bounds() (bounds.hpp) cannot
+// exclude the 0.5 level; the bricks of `brick` cells per axis that remain are evaluated with
+// the SIMD evaluator, each with the tree simplified for it, and contoured by marching tetrahedra on the Kuhn triangulation of each
+// cell (six tetrahedra sharing the cell's main diagonal, the same split in every cell, so that
+// neighbouring cells agree on their shared faces and the surface has no cracks; the 256-case
+// marching-cubes table resolves ambiguous faces per cell and can leave holes). In 2D each
+// square splits into two triangles along its diagonal.
+//
+// The result is closed even where the shape reaches the domain's boundary: the grid points on
+// the boundary count as outside, so the surface is capped there. A vertex lies on a grid edge
+// whose ends are on either side of the level, interpolated linearly; it is shared by every
+// triangle that uses that edge. Inside is occupancy >= level; triangles wind counter-clockwise
+// seen from outside (normals point out).
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fuzzycsg/core/tree.hpp"
+
+namespace fuzzycsg {
+
+struct TriangleMesh {
+  std::vector<std::array<float, 3>> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+// 2D: closed loops, each a list of vertices (the last joins the first), inside on the left
+// (outer boundaries counter-clockwise, holes clockwise).
+struct Contours {
+  std::vector<std::vector<std::array<float, 2>>> loops;
+};
+
+struct MeshOptions {
+  int resolution = 128;  // cells per axis over the domain's longest side
+  int brick = 8;         // cells per axis of the blocks evaluated densely
+  bool prune = true;     // false: evaluate every grid point (the dense baseline)
+  // Evaluate each brick with the tree simplified for it (constant subtrees folded, operators
+  // that pass one child through removed; src/mesh/reduce.hpp). Grid points whose value lies
+  // within the simplification's error bound of the level are evaluated again with the whole
+  // tree, so that every brick puts each point on the same side and the surface stays closed.
+  bool simplify = true;
+  double level = 0.5;
+  int threads = 0;  // 0: all hardware threads
+};
+
+inline constexpr int kMaxMeshResolution = 4096;
+
+struct MeshStats {
+  std::array<int, 3> cells{};        // grid cells per axis
+  std::size_t points_evaluated = 0;  // occupancy evaluations (grid points, with repeats)
+  std::size_t grid_points = 0;       // points of the whole grid
+  std::size_t bricks = 0;            // bricks evaluated
+  std::size_t boxes_bounded = 0;     // octree boxes bounded by intervals
+  std::size_t leaves_evaluated = 0;  // sum over bricks of the leaves of the tree evaluated
+  std::size_t points_rechecked = 0;  // points evaluated again with the whole tree
+  double seconds = 0;
+};
+
+// Throws InputError when the resolution or brick is out of range ([1, kMaxMeshResolution],
+// [1, 64]), the domain is empty or the tree's dimension does not match.
+TriangleMesh extract_mesh(const Tree& tree, std::span<const double> params,
+                          const MeshOptions& options = {}, MeshStats* stats = nullptr);
+Contours extract_contours(const Tree& tree, std::span<const double> params,
+                          const MeshOptions& options = {}, MeshStats* stats = nullptr);
+
+// Signed volume (positive for outward-facing triangles) and the number of edges that are not
+// shared by exactly two triangles with opposite orientations (0 for a closed, consistently
+// oriented surface).
+double mesh_volume(const TriangleMesh& mesh);
+std::size_t open_or_misoriented_edges(const TriangleMesh& mesh);
+// Area enclosed (positive for counter-clockwise loops) of the contours.
+double contours_area(const Contours& contours);
+
+// Writes the mesh as OBJ, STL (binary) or PLY (binary) chosen by the path's extension, through
+// assimp's exporters; 2D contours as OBJ polylines ("l" elements) or SVG. The file is written
+// to a temporary name beside `path` and renamed, so that a failure leaves no partial file.
+// Throws InputError (unknown extension, unwritable path) naming the path.
+void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
+void write_contours(const Contours& contours, const Tree& tree, const std::filesystem::path& path);
+
+}  // namespace fuzzycsg

@@ -1,0 +1,278 @@
+#include "fuzzycsg/mesh/mesh.hpp"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <set>
+#include <string>
+
+#include "fuzzycsg/core/builders.hpp"
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
+
+namespace fuzzycsg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Tree sphere_tree(double radius, const char* extra = "") {
+  return io::read_tree_string(
+      std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+          "root": {"type": "sphere", "radius": )") +
+          std::to_string(radius) + R"(, "sharpness": 200)" + extra + "}}",
+      "sphere");
+}
+
+long euler_characteristic(const TriangleMesh& m) {
+  // Closed: every edge in two triangles, E = 3F / 2.
+  return static_cast<long>(m.vertices.size()) - static_cast<long>(m.triangles.size()) * 3 / 2 +
+         static_cast<long>(m.triangles.size());
+}
+
+TEST(Mesh, SphereIsClosedOrientedAndHasItsVolume) {
+  const Tree tree = sphere_tree(0.6);
+  MeshOptions o;
+  o.resolution = 48;
+  MeshStats stats;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o, &stats);
+  ASSERT_GT(m.triangles.size(), 1000u);
+  EXPECT_EQ(open_or_misoriented_edges(m), 0u);
+  EXPECT_EQ(euler_characteristic(m), 2);
+  const double exact = 4.0 / 3.0 * kPi * 0.6 * 0.6 * 0.6;
+  EXPECT_NEAR(mesh_volume(m), exact, 0.01 * exact);
+  for (const auto& v : m.vertices) {
+    EXPECT_NEAR(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 0.6, 2e-3);
+  }
+  // Bounds keep the evaluation near the surface.
+  EXPECT_EQ(stats.grid_points, 49u * 49u * 49u);
+  EXPECT_LT(stats.points_evaluated, stats.grid_points);
+  EXPECT_GT(stats.boxes_bounded, 0u);
+}
+
+TEST(Mesh, HoleGivesGenusOne) {
+  const Tree tree = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/box_with_hole.json");
+  MeshOptions o;
+  o.resolution = 64;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  EXPECT_EQ(open_or_misoriented_edges(m), 0u);
+  EXPECT_EQ(euler_characteristic(m), 0);
+  const double exact = 1.2 * 0.8 * 0.4 - kPi * 0.15 * 0.15 * 0.8;
+  EXPECT_NEAR(mesh_volume(m), exact, 0.03 * exact);
+}
+
+// Pruning by bounds must not change the mesh: the same vertices and triangles, in the same
+// order, as evaluating every grid point.
+void expect_pruning_exact(const Tree& tree, int resolution, bool fewer = true) {
+  MeshOptions o;
+  o.resolution = resolution;
+  MeshStats pruned_stats, dense_stats;
+  const TriangleMesh pruned = extract_mesh(tree, tree.params.values(), o, &pruned_stats);
+  o.prune = false;
+  const TriangleMesh dense = extract_mesh(tree, tree.params.values(), o, &dense_stats);
+  ASSERT_FALSE(dense.triangles.empty());
+  EXPECT_EQ(pruned.vertices, dense.vertices);
+  EXPECT_EQ(pruned.triangles, dense.triangles);
+  EXPECT_EQ(open_or_misoriented_edges(pruned), 0u);
+  if (fewer) {
+    EXPECT_LT(pruned_stats.points_evaluated, dense_stats.points_evaluated);
+  }
+  EXPECT_GE(dense_stats.points_evaluated, dense_stats.grid_points);
+}
+
+TEST(Mesh, PruningIsExactOnExamples) {
+  expect_pruning_exact(io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/box_with_hole.json"), 50);
+  expect_pruning_exact(sphere_tree(0.45, R"(, "translate": [0.2, -0.1, 0.05])"), 37);
+}
+
+TEST(Mesh, PruningIsExactOnRandomUnifiedQuadricTrees) {
+  for (unsigned seed : {4u, 5u}) {
+    FullTreeOptions o;
+    o.leaves = 64;
+    o.seed = seed;
+    o.sharpness = 6.0;
+    // Random trees have surfaces everywhere: nothing may be pruned, but nothing may change.
+    expect_pruning_exact(make_full_binary_tree(o), 40, false);
+  }
+}
+
+// Sixteen balls in a union: each brick needs one or two of them. The simplified trees give the
+// same triangles as the whole tree, and vertices within rounding.
+TEST(Mesh, SimplifiedBricksMatchTheWholeTree) {
+  std::string children;
+  for (int i = 0; i < 16; ++i) {
+    const double x = -0.6 + 0.4 * (i % 4), y = -0.6 + 0.4 * (i / 4), z = 0.1 * (i % 3);
+    children += fmt::format(R"({}{{"type": "sphere", "radius": 0.15, "translate": [{}, {}, {}],
+        "sharpness": 60}})",
+                            i ? ", " : "", x, y, z);
+  }
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op": "union", "children": [)" +
+          children + "]}}",
+      "balls");
+  MeshOptions o;
+  o.resolution = 64;
+  MeshStats simple_stats, whole_stats;
+  const TriangleMesh simple = extract_mesh(tree, tree.params.values(), o, &simple_stats);
+  o.simplify = false;
+  const TriangleMesh whole = extract_mesh(tree, tree.params.values(), o, &whole_stats);
+  ASSERT_EQ(simple.triangles, whole.triangles);
+  ASSERT_EQ(simple.vertices.size(), whole.vertices.size());
+  for (std::size_t v = 0; v < simple.vertices.size(); ++v) {
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(simple.vertices[v][c], whole.vertices[v][c], 1e-4);
+  }
+  EXPECT_EQ(open_or_misoriented_edges(simple), 0u);
+  EXPECT_EQ(euler_characteristic(simple), 2 * 16);  // sixteen separate spheres
+  EXPECT_EQ(simple_stats.points_evaluated, whole_stats.points_evaluated);
+  EXPECT_LT(simple_stats.leaves_evaluated * 4, whole_stats.leaves_evaluated);
+}
+
+TEST(Mesh, CappedAtTheDomainBoundary) {
+  // A sphere larger than the domain fills it: the mesh is the domain's box, closed.
+  const Tree tree = sphere_tree(1.5);
+  MeshOptions o;
+  o.resolution = 16;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  EXPECT_EQ(open_or_misoriented_edges(m), 0u);
+  EXPECT_EQ(euler_characteristic(m), 2);
+  // The boundary points count as outside, so the box ends half a cell inside.
+  const double side = 2.0 - 2.0 / 16.0;
+  EXPECT_NEAR(mesh_volume(m), side * side * side, 0.02 * 8.0);
+}
+
+TEST(Mesh, EmptyLevelSetGivesAnEmptyMesh) {
+  const Tree tree = sphere_tree(0.2, R"(, "translate": [5, 5, 5])");
+  MeshStats stats;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), {}, &stats);
+  EXPECT_TRUE(m.triangles.empty());
+  EXPECT_EQ(stats.points_evaluated, 0u);
+}
+
+TEST(Mesh, ThreadCountDoesNotChangeTheMesh) {
+  const Tree tree = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/box_with_hole.json");
+  MeshOptions o;
+  o.resolution = 40;
+  o.threads = 1;
+  const TriangleMesh one = extract_mesh(tree, tree.params.values(), o);
+  o.threads = 2;
+  o.brick = 4;
+  const TriangleMesh two = extract_mesh(tree, tree.params.values(), o);
+  // Another brick size visits the bricks in another order: compare as sets of triangles.
+  EXPECT_EQ(one.vertices.size(), two.vertices.size());
+  EXPECT_EQ(one.triangles.size(), two.triangles.size());
+  EXPECT_NEAR(mesh_volume(one), mesh_volume(two), 1e-9);
+}
+
+TEST(Mesh, RejectsBadResolutions) {
+  const Tree tree = sphere_tree(0.5);
+  for (int r : {0, -3, 1000000}) {
+    MeshOptions o;
+    o.resolution = r;
+    EXPECT_THROW(extract_mesh(tree, tree.params.values(), o), InputError) << r;
+  }
+  MeshOptions o;
+  o.brick = 0;
+  EXPECT_THROW(extract_mesh(tree, tree.params.values(), o), InputError);
+  EXPECT_THROW(extract_contours(tree, tree.params.values()), InputError);  // 3D tree
+}
+
+Tree disc_with_hole() {
+  return io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+          "root": {"op": "difference", "children": [
+            {"type": "rectangle", "size": [1.2, 0.8], "sharpness": 200},
+            {"type": "circle", "radius": 0.2, "translate": [0.1, 0], "sharpness": 200}]}})",
+      "plate");
+}
+
+TEST(Contours, LoopsAreClosedOrientedAndEncloseTheArea) {
+  const Tree tree = disc_with_hole();
+  MeshOptions o;
+  o.resolution = 200;
+  const Contours c = extract_contours(tree, tree.params.values(), o);
+  ASSERT_EQ(c.loops.size(), 2u);
+  const double exact = 1.2 * 0.8 - kPi * 0.2 * 0.2;
+  EXPECT_NEAR(contours_area(c), exact, 0.01 * exact);
+  // Outer loop counter-clockwise, hole clockwise.
+  int ccw = 0, cw = 0;
+  for (const auto& loop : c.loops) {
+    Contours one;
+    one.loops = {loop};
+    (contours_area(one) > 0 ? ccw : cw) += 1;
+  }
+  EXPECT_EQ(ccw, 1);
+  EXPECT_EQ(cw, 1);
+}
+
+TEST(Contours, PruningIsExact) {
+  const Tree tree = disc_with_hole();
+  MeshOptions o;
+  o.resolution = 120;
+  MeshStats ps, ds;
+  const Contours pruned = extract_contours(tree, tree.params.values(), o, &ps);
+  o.prune = false;
+  const Contours dense = extract_contours(tree, tree.params.values(), o, &ds);
+  EXPECT_EQ(pruned.loops, dense.loops);
+  EXPECT_LT(ps.points_evaluated, ds.points_evaluated / 2);
+}
+
+std::size_t read_back_triangles(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.string(), aiProcess_Triangulate);
+  if (scene == nullptr || scene->mNumMeshes == 0) return 0;
+  std::size_t faces = 0;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
+  return faces;
+}
+
+TEST(MeshFiles, ObjStlPlyRoundTripThroughAssimp) {
+  const Tree tree = sphere_tree(0.5);
+  MeshOptions o;
+  o.resolution = 20;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  const std::filesystem::path dir = ::testing::TempDir();
+  for (const char* name : {"fuzzycsg_mesh.obj", "fuzzycsg_mesh.stl", "fuzzycsg_mesh.ply"}) {
+    const std::filesystem::path path = dir / name;
+    std::filesystem::remove(path);
+    write_mesh(m, path);
+    EXPECT_EQ(read_back_triangles(path), m.triangles.size()) << name;
+  }
+  // No material file beside the OBJ.
+  EXPECT_FALSE(std::filesystem::exists(dir / "fuzzycsg_mesh.mtl"));
+}
+
+TEST(MeshFiles, BadPathsLeaveNothing) {
+  const Tree tree = sphere_tree(0.5);
+  MeshOptions o;
+  o.resolution = 8;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  EXPECT_THROW(write_mesh(m, "/nonexistent-dir/x.obj"), InputError);
+  const std::filesystem::path odd = std::filesystem::path(::testing::TempDir()) / "mesh.xyz";
+  EXPECT_THROW(write_mesh(m, odd), InputError);
+  EXPECT_FALSE(std::filesystem::exists(odd));
+}
+
+TEST(MeshFiles, ContoursAsSvgAndObj) {
+  const Tree tree = disc_with_hole();
+  MeshOptions o;
+  o.resolution = 40;
+  const Contours c = extract_contours(tree, tree.params.values(), o);
+  const std::filesystem::path dir = ::testing::TempDir();
+  write_contours(c, tree, dir / "fuzzycsg_contours.svg");
+  write_contours(c, tree, dir / "fuzzycsg_contours.obj");
+  std::size_t points = 0;
+  for (const auto& loop : c.loops) points += loop.size();
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile((dir / "fuzzycsg_contours.obj").string(), 0);
+  ASSERT_NE(scene, nullptr);
+  EXPECT_EQ(scene->mMeshes[0]->mNumFaces, points);  // one segment per loop vertex
+  EXPECT_GT(std::filesystem::file_size(dir / "fuzzycsg_contours.svg"), 200u);
+  EXPECT_THROW(write_contours(c, tree, dir / "x.png"), InputError);
+}
+
+}  // namespace
+}  // namespace fuzzycsg
