@@ -23,25 +23,30 @@ struct MeshArgs {
   MeshOptions options;
   bool no_prune = false;
   bool allow_empty = false;
+  bool check = false;
+  bool no_simplify = false;
 };
 
 void print_stats(const MeshStats& s, const std::string& what) {
-  fmt::print("mesh: {}; grid {}; evaluated {} of {} grid points ({:.1f}%) in {} bricks (mean "
-             "{:.1f} leaves each, {} points rechecked), {:.3f} s\n",
-             what,
-             s.cells[2] > 0 ? fmt::format("{}x{}x{}", s.cells[0], s.cells[1], s.cells[2])
-                            : fmt::format("{}x{}", s.cells[0], s.cells[1]),
-             s.points_evaluated, s.grid_points,
-             100.0 * static_cast<double>(s.points_evaluated) /
-                 static_cast<double>(std::max<std::size_t>(s.grid_points, 1)),
-             s.bricks,
-             static_cast<double>(s.leaves_evaluated) / static_cast<double>(std::max<std::size_t>(s.bricks, 1)),
-             s.points_rechecked, s.seconds);
+  fmt::print(
+      "mesh: {}; grid {}; evaluated {} of {} grid points ({:.1f}%) in {} bricks (mean "
+      "{:.1f} leaves each, {} points rechecked), {:.3f} s\n",
+      what,
+      s.cells[2] > 0 ? fmt::format("{}x{}x{}", s.cells[0], s.cells[1], s.cells[2])
+                     : fmt::format("{}x{}", s.cells[0], s.cells[1]),
+      s.points_evaluated, s.grid_points,
+      100.0 * static_cast<double>(s.points_evaluated) /
+          static_cast<double>(std::max<std::size_t>(s.grid_points, 1)),
+      s.bricks,
+      static_cast<double>(s.leaves_evaluated) /
+          static_cast<double>(std::max<std::size_t>(s.bricks, 1)),
+      s.points_rechecked, s.seconds);
 }
 
 int run_mesh(MeshArgs a) {
   const Tree tree = io::read_tree_file(a.tree);
   a.options.prune = !a.no_prune;
+  a.options.simplify = !a.no_simplify;
   const auto wrap = [&](const InputError& e) {
     return InputError(fmt::format("{}: {}", a.tree, e.what()));
   };
@@ -60,9 +65,13 @@ int run_mesh(MeshArgs a) {
           a.tree, a.options.resolution));
     }
     write_mesh(mesh, a.out);
-    print_stats(stats, fmt::format("{} vertices, {} triangles, volume {:.6g}",
-                                   mesh.vertices.size(), mesh.triangles.size(),
-                                   mesh_volume(mesh)));
+    print_stats(stats, fmt::format("{} vertices, {} triangles, volume {:.6g}", mesh.vertices.size(),
+                                   mesh.triangles.size(), mesh_volume(mesh)));
+    if (a.check) {
+      const std::size_t bad = open_or_misoriented_edges(mesh);
+      fmt::print("mesh: {} edges open or misoriented{}\n", bad,
+                 bad == 0 ? " (closed and oriented)" : "");
+    }
   } else {
     Contours contours;
     try {
@@ -87,8 +96,8 @@ int run_mesh(MeshArgs a) {
 
 Verb register_mesh(CLI::App& app) {
   auto a = std::make_shared<MeshArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "mesh", "The 0.5 level set: a closed triangle mesh (3D) or contours (2D)");
+  CLI::App* cmd =
+      app.add_subcommand("mesh", "The 0.5 level set: a closed triangle mesh (3D) or contours (2D)");
   cmd->add_option("tree", a->tree, "Tree file")->required();
   cmd->add_option("-o,--output", a->out,
                   "Output: .obj, .stl or .ply (3D); .svg or .obj polylines (2D)")
@@ -104,6 +113,10 @@ Verb register_mesh(CLI::App& app) {
                 "Evaluate every grid point (no interval bounds; the same result, slower)");
   cmd->add_flag("--allow-empty", a->allow_empty,
                 "Write an empty mesh when the level set is empty (default: an error)");
+  cmd->add_flag("--no-simplify", a->no_simplify,
+                "Evaluate the whole tree in every brick (bounds only; the same result)");
+  cmd->add_flag("--check", a->check,
+                "Count the edges not shared by exactly two oppositely oriented triangles");
   cmd->add_option("--threads", a->options.threads, "Threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
   return {cmd, [a] { return run_mesh(*a); }};

@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
   const std::vector<fuzzycsg::app::Verb> verbs{
       fuzzycsg::app::register_eval(app),  fuzzycsg::app::register_info(app),
       fuzzycsg::app::register_demo(app),  fuzzycsg::app::register_fit(app),
-      fuzzycsg::app::register_prune(app), fuzzycsg::app::register_mesh(app)};
+      fuzzycsg::app::register_prune(app), fuzzycsg::app::register_mesh(app),
+      fuzzycsg::app::register_render(app)};
 
   try {
     app.parse(argc, argv);

@@ -2,7 +2,6 @@
 
 #include <fmt/core.h>
 #include <stb_easy_font.h>
-#include <stb_image_write.h>
 
 #include <algorithm>
 #include <array>
@@ -87,11 +86,6 @@ class Canvas {
   std::vector<unsigned char> px_;
 };
 
-void append_bytes(void* context, void* data, int size) {
-  static_cast<std::string*>(context)->append(static_cast<const char*>(data),
-                                             static_cast<std::size_t>(size));
-}
-
 // 1, 2, 5 x 10^k spacing giving about `target` intervals over [lo, hi].
 double nice_step(double lo, double hi, int target) {
   const double raw = (hi - lo) / target;
@@ -106,20 +100,6 @@ double nice_step(double lo, double hi, int target) {
 std::string format_step(double v) { return fmt::format("{:.0f}", v); }
 
 }  // namespace
-
-std::string encode_png(int width, int height, int channels, std::span<const unsigned char> pixels) {
-  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
-      pixels.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
-                           static_cast<std::size_t>(channels)) {
-    throw Error("encode_png: pixel buffer does not match the image size");
-  }
-  std::string out;
-  if (stbi_write_png_to_func(append_bytes, &out, width, height, channels, pixels.data(),
-                             width * channels) == 0) {
-    throw Error("encode_png: stb_image_write failed");
-  }
-  return out;
-}
 
 std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view title, int width,
                            int height) {

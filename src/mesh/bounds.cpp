@@ -108,8 +108,8 @@ struct BoundsProgram::Impl {
       const double g1 = 2 * q[1] * y + q[3] * x + q[4] * z + q[7];
       const double g2 = 2 * q[2] * z + q[4] * y + q[5] * x + q[8];
       lin = std::abs(g0) * h[0] + std::abs(g1) * h[1] + std::abs(g2) * h[2];
-      const double off =
-          std::abs(q[3]) * h[0] * h[1] + std::abs(q[4]) * h[1] * h[2] + std::abs(q[5]) * h[2] * h[0];
+      const double off = std::abs(q[3]) * h[0] * h[1] + std::abs(q[4]) * h[1] * h[2] +
+                         std::abs(q[5]) * h[2] * h[0];
       qlo = -off;
       qhi = off;
       for (int i = 0; i < 3; ++i) {
@@ -214,8 +214,8 @@ BoundsProgram::BoundsProgram(const Tree& tree, std::span<const double> params)
       if (!pl.rotate.empty()) {
         it.has_rotate = true;
         if (tree.dim == 3) {
-          it.rotation = placement::rotation_3d(get(pl.rotate[0]), get(pl.rotate[1]),
-                                               get(pl.rotate[2]));
+          it.rotation =
+              placement::rotation_3d(get(pl.rotate[0]), get(pl.rotate[1]), get(pl.rotate[2]));
         } else {
           const auto r2 = placement::rotation_2d(get(pl.rotate[0]));
           it.rotation = {r2[0], r2[1], 0, r2[2], r2[3], 0, 0, 0, 1};
@@ -235,9 +235,10 @@ BoundsProgram::BoundsProgram(const Tree& tree, std::span<const double> params)
       if (node.op == OpKind::kUnified) {
         std::array<double, 4> v{};
         for (int i = 0; i < 4; ++i) v[i] = get(node.unified[static_cast<std::size_t>(i)]);
-        it.weights = node.unified_logits ? logic::unified_weights(v, get_or(node.temperature, 1000.0),
-                                                                  get_or(node.omega, 10.0))
-                                         : v;
+        it.weights = node.unified_logits
+                         ? logic::unified_weights(v, get_or(node.temperature, 1000.0),
+                                                  get_or(node.omega, 10.0))
+                         : v;
       }
     }
     m.items.push_back(std::move(it));
@@ -271,7 +272,7 @@ Interval BoundsProgram::bound(const double* lo, const double* hi,
     if (it.leaf) {
       const Interval f = m.implicit(it, centre, half);
       r = (f.lo > -kInf && f.hi < kInf) ? Interval{m.step(it, f.hi), m.step(it, f.lo)}
-                                         : Interval{0.0, 1.0};
+                                        : Interval{0.0, 1.0};
     } else if (it.op == OpKind::kComplement) {
       const Interval x = v[static_cast<std::size_t>(it.children[0])];
       r = {logic::complement(it.complement, x.hi, it.lambda),

@@ -3,13 +3,13 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <fmt/format.h>
 #include <algorithm>
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <fmt/format.h>
 #include <unordered_map>
 #include <vector>
 
@@ -53,8 +53,8 @@ struct Grid {
 
 Grid make_grid(const Tree& tree, const MeshOptions& o) {
   if (o.resolution < 1 || o.resolution > kMaxMeshResolution) {
-    throw InputError(fmt::format("resolution must be in [1, {}] (got {})", kMaxMeshResolution,
-                                 o.resolution));
+    throw InputError(
+        fmt::format("resolution must be in [1, {}] (got {})", kMaxMeshResolution, o.resolution));
   }
   if (o.brick < 1 || o.brick > 64) {
     throw InputError(fmt::format("brick must be in [1, 64] (got {})", o.brick));
@@ -72,7 +72,8 @@ Grid make_grid(const Tree& tree, const MeshOptions& o) {
   for (int a = 0; a < g.dim; ++a) {
     g.min[a] = d.min[a];
     g.max[a] = d.max[a];
-    g.n[a] = std::max(1, static_cast<int>(std::lround(o.resolution * (d.max[a] - d.min[a]) / longest)));
+    g.n[a] =
+        std::max(1, static_cast<int>(std::lround(o.resolution * (d.max[a] - d.min[a]) / longest)));
   }
   if (g.dim == 2) {
     g.n[2] = 0;  // one layer of points
@@ -89,8 +90,13 @@ struct CellBox {
 class Extractor {
  public:
   Extractor(const Tree& tree, std::span<const double> params, const MeshOptions& o)
-      : tree_(tree), params_(params), o_(o), grid_(make_grid(tree, o)), bounds_(tree, params),
-        simplify_(o.simplify && o.prune && mesh_detail::reducible(tree)), reducer_(tree, params),
+      : tree_(tree),
+        params_(params),
+        o_(o),
+        grid_(make_grid(tree, o)),
+        bounds_(tree, params),
+        simplify_(o.simplify && o.prune && mesh_detail::reducible(tree)),
+        reducer_(tree, params),
         evaluator_(tree, EvalOptions{o.threads}) {
     for (const Node& n : tree.nodes) leaves_ += n.kind == NodeKind::kPrimitive ? 1 : 0;
   }
@@ -100,7 +106,8 @@ class Extractor {
   // The bricks that can hold the level, in a fixed order.
   std::vector<CellBox> active_bricks(MeshStats& stats) const {
     const int axes = grid_.dim;
-    std::vector<CellBox> level{CellBox{{0, 0, 0}, {grid_.n[0], grid_.n[1], std::max(grid_.n[2], 0)}}};
+    std::vector<CellBox> level{
+        CellBox{{0, 0, 0}, {grid_.n[0], grid_.n[1], std::max(grid_.n[2], 0)}}};
     std::vector<CellBox> bricks;
     while (!level.empty()) {
       std::vector<int> keep(level.size());  // 0 skip, 1 brick, 2 split
@@ -145,9 +152,8 @@ class Extractor {
       }
       level = std::move(next);
     }
-    std::sort(bricks.begin(), bricks.end(), [](const CellBox& x, const CellBox& y) {
-      return x.lo < y.lo;
-    });
+    std::sort(bricks.begin(), bricks.end(),
+              [](const CellBox& x, const CellBox& y) { return x.lo < y.lo; });
     return bricks;
   }
 
@@ -199,7 +205,8 @@ class Extractor {
 
   // Every brick's values: simplified trees in parallel, then the whole tree on the rest and on
   // the points to recheck, in batches; the points on the domain's boundary are set to 0.
-  std::vector<std::vector<float>> evaluate(std::span<const CellBox> bricks, MeshStats& stats) const {
+  std::vector<std::vector<float>> evaluate(std::span<const CellBox> bricks,
+                                           MeshStats& stats) const {
     const int dim = grid_.dim;
     std::vector<std::vector<float>> values(bricks.size());
     std::vector<std::vector<std::uint32_t>> recheck(bricks.size());
@@ -282,7 +289,7 @@ class Extractor {
       boundary = boundary || box.lo[a] == 0 || box.hi[a] == grid_.n[a];
     }
     const Interval r = bounds_.bound(lo.data(), hi.data());
-    if (r.hi < o_.level - kMargin) return false;                // outside throughout
+    if (r.hi < o_.level - kMargin) return false;               // outside throughout
     if (r.lo > o_.level + kMargin && !boundary) return false;  // inside throughout
     return true;
   }
@@ -321,7 +328,8 @@ class PieceBuilder {
     return values_[(static_cast<std::size_t>(i) * extent_[1] + j) * extent_[2] + k];
   }
   std::array<double, 3> position(const std::array<int, 3>& q) const {
-    return {g_.coordinate(0, q[0]), g_.coordinate(1, q[1]), kDim == 3 ? g_.coordinate(2, q[2]) : 0.0};
+    return {g_.coordinate(0, q[0]), g_.coordinate(1, q[1]),
+            kDim == 3 ? g_.coordinate(2, q[2]) : 0.0};
   }
   bool inside(const std::array<int, 3>& q) const { return value(q) >= level_; }
 
@@ -590,9 +598,12 @@ double mesh_volume(const TriangleMesh& mesh) {
     const auto& a = mesh.vertices[static_cast<std::size_t>(t[0])];
     const auto& b = mesh.vertices[static_cast<std::size_t>(t[1])];
     const auto& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    v += (static_cast<double>(a[0]) * (static_cast<double>(b[1]) * c[2] - static_cast<double>(b[2]) * c[1]) -
-          static_cast<double>(a[1]) * (static_cast<double>(b[0]) * c[2] - static_cast<double>(b[2]) * c[0]) +
-          static_cast<double>(a[2]) * (static_cast<double>(b[0]) * c[1] - static_cast<double>(b[1]) * c[0])) /
+    v += (static_cast<double>(a[0]) *
+              (static_cast<double>(b[1]) * c[2] - static_cast<double>(b[2]) * c[1]) -
+          static_cast<double>(a[1]) *
+              (static_cast<double>(b[0]) * c[2] - static_cast<double>(b[2]) * c[0]) +
+          static_cast<double>(a[2]) *
+              (static_cast<double>(b[0]) * c[1] - static_cast<double>(b[1]) * c[0])) /
          6.0;
   }
   return v;

@@ -26,8 +26,8 @@ double slope_bound(double a, double d, const Interval& t) {
 struct Reducer::Impl {
   const Tree& tree;
   std::span<const double> params;
-  std::vector<std::optional<Bilinear>> forms;   // per node
-  std::vector<std::array<double, 4>> weights;   // per unified node: barycentric c
+  std::vector<std::optional<Bilinear>> forms;  // per node
+  std::vector<std::array<double, 4>> weights;  // per unified node: barycentric c
 
   Impl(const Tree& t, std::span<const double> p)
       : tree(t), params(p), forms(t.nodes.size()), weights(t.nodes.size()) {
@@ -37,11 +37,11 @@ struct Reducer::Impl {
       if (node.op == OpKind::kUnified) {
         std::array<double, 4> v{};
         for (int k = 0; k < 4; ++k) v[k] = p[node.unified[static_cast<std::size_t>(k)].index];
-        const auto c = node.unified_logits
-                           ? logic::unified_weights(v,
-                                                    node.temperature ? p[node.temperature->index] : 1000.0,
-                                                    node.omega ? p[node.omega->index] : 10.0)
-                           : v;
+        const auto c =
+            node.unified_logits
+                ? logic::unified_weights(v, node.temperature ? p[node.temperature->index] : 1000.0,
+                                         node.omega ? p[node.omega->index] : 10.0)
+                : v;
         weights[i] = c;
         forms[i] = Bilinear{c[1] + c[2], c[1] + c[3], c[0] - c[1] - c[2] - c[3]};
       } else if (node.logic.family == logic::Family::kProduct) {
@@ -137,8 +137,9 @@ class Builder {
                node.children.size() > 2) {
       kept = drop_neutral(node, sens);
     }
-    if (kept.empty()) return constant(node.op == OpKind::kUnion ? 0.0 : 1.0, sens);
-    if (kept.size() == 1) return copy(kept[0], sens);
+    const bool joins = node.op == OpKind::kUnion || node.op == OpKind::kIntersection;
+    if (joins && kept.empty()) return constant(node.op == OpKind::kUnion ? 0.0 : 1.0, sens);
+    if (joins && kept.size() == 1) return copy(kept[0], sens);
     if (kept.size() != node.children.size()) {
       std::vector<int> children;
       for (int c : kept) children.push_back(copy(c, sens));
@@ -212,7 +213,6 @@ class Builder {
     }
     return kept;
   }
-
 
   const Reducer::Impl& m_;
   const std::vector<Interval>& bounds_;

@@ -8,9 +8,10 @@
 // the simplified tree differs from the tree by at most `error`.
 //
 // The bound on the error adds the error of each replacement times the root's sensitivity to
-// it, which holds when every operator is Lipschitz in each argument with the constants used: product-logic and Gödel booleans with the standard
-// complement, Łukasiewicz, the unified operator (barycentric weights), standard complements.
-// For other trees reducible() is false and meshing evaluates the whole tree.
+// it, which holds when every operator is Lipschitz in each argument with the constants used:
+// product-logic and Gödel booleans with the standard complement, Łukasiewicz, the unified operator
+// (barycentric weights), standard complements. For other trees reducible() is false and meshing
+// evaluates the whole tree.
 
 #include <memory>
 #include <optional>
@@ -25,9 +26,9 @@ namespace fuzzycsg::mesh_detail {
 bool reducible(const Tree& tree);
 
 struct Reduced {
-  Tree tree;          // parameters all fixed, values resolved
-  double error = 0;   // bound on |simplified - original| inside the box
-  int leaves = 0;     // leaves of the simplified tree (constants included)
+  Tree tree;         // parameters all fixed, values resolved
+  double error = 0;  // bound on |simplified - original| inside the box
+  int leaves = 0;    // leaves of the simplified tree (constants included)
 };
 
 // A subtree is replaced when its bounds' half-width, times the sensitivity of the root to it

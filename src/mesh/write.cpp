@@ -1,10 +1,10 @@
 // Mesh and contour files: OBJ, STL and PLY through assimp's exporters (to memory, then written
 // atomically), SVG by hand (a few lines of text).
-#include <assimp/Exporter.hpp>
 #include <assimp/scene.h>
+#include <assimp/Exporter.hpp>
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <string>
@@ -32,10 +32,10 @@ std::unique_ptr<aiScene> make_scene(std::span<const std::array<float, 3>> vertic
   scene->mRootNode = new aiNode();
   scene->mRootNode->mMeshes = new unsigned int[1]{0};
   scene->mRootNode->mNumMeshes = 1;
-  scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene->mMaterials = new aiMaterial* [1] { new aiMaterial() };
   scene->mNumMaterials = 1;
   auto* mesh = new aiMesh();
-  scene->mMeshes = new aiMesh*[1]{mesh};
+  scene->mMeshes = new aiMesh* [1] { mesh };
   scene->mNumMeshes = 1;
   mesh->mMaterialIndex = 0;
   mesh->mPrimitiveTypes = per_face == 3 ? aiPrimitiveType_TRIANGLE : aiPrimitiveType_LINE;
@@ -52,7 +52,8 @@ std::unique_ptr<aiScene> make_scene(std::span<const std::array<float, 3>> vertic
     face.mNumIndices = static_cast<unsigned int>(per_face);
     face.mIndices = new unsigned int[static_cast<std::size_t>(per_face)];
     for (int c = 0; c < per_face; ++c) {
-      face.mIndices[c] = static_cast<unsigned int>(indices[f * static_cast<std::size_t>(per_face) + static_cast<std::size_t>(c)]);
+      face.mIndices[c] = static_cast<unsigned int>(
+          indices[f * static_cast<std::size_t>(per_face) + static_cast<std::size_t>(c)]);
     }
   }
   return scene;
@@ -64,8 +65,8 @@ void export_scene(const aiScene& scene, const char* format, const std::filesyste
   if (blob == nullptr) {
     throw InputError(fmt::format("cannot write {}: {}", path.string(), exporter.GetErrorString()));
   }
-  io::write_text_file_atomic(
-      path, std::string_view(static_cast<const char*>(blob->data), blob->size));
+  io::write_text_file_atomic(path,
+                             std::string_view(static_cast<const char*>(blob->data), blob->size));
 }
 
 const char* mesh_format(const std::filesystem::path& path) {
@@ -73,8 +74,8 @@ const char* mesh_format(const std::filesystem::path& path) {
   if (ext == ".obj") return "objnomtl";
   if (ext == ".stl") return "stlb";
   if (ext == ".ply") return "plyb";
-  throw InputError(fmt::format("{}: unknown mesh format '{}' (use .obj, .stl or .ply)",
-                               path.string(), ext));
+  throw InputError(
+      fmt::format("{}: unknown mesh format '{}' (use .obj, .stl or .ply)", path.string(), ext));
 }
 
 }  // namespace
@@ -109,8 +110,8 @@ void write_contours(const Contours& contours, const Tree& tree, const std::files
     return;
   }
   if (ext != ".svg") {
-    throw InputError(fmt::format("{}: unknown contour format '{}' (use .svg or .obj)",
-                                 path.string(), ext));
+    throw InputError(
+        fmt::format("{}: unknown contour format '{}' (use .svg or .obj)", path.string(), ext));
   }
   // The domain as the view box, y up (SVG's y points down: flipped by the transform).
   const Domain d = tree.domain_or_default();

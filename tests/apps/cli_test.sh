@@ -287,5 +287,18 @@ else
   bad "mesh --allow-empty"
 fi
 
+# render: a PNG of the framed shape, several views, and its errors.
+if "$bin" render "$tmp/sphere.json" -o "$tmp/sphere.png" --size 64 48 --views 2 --resolution 24 &&
+  [[ "$(head -c 8 "$tmp/sphere.png" | od -An -tx1 | tr -d ' \n')" == "89504e470d0a1a0a" ]]; then
+  ok
+else
+  bad "render to PNG"
+fi
+expect_error "inside the shape" "$bin" render "$tmp/sphere.json" -o "$tmp/in.png" --camera 0 0 0 1 0 0 --size 16 16
+expect_error "empty" "$bin" render "$tmp/far.json" -o "$tmp/far.png" --size 16 16
+expect_error "2D" "$bin" render "$src/examples/cart_2d.json" -o "$tmp/cart.png"
+expect_error "size" "$bin" render "$tmp/sphere.json" -o "$tmp/big.png" --size 0 10
+if [[ ! -e "$tmp/in.png" && ! -e "$tmp/far.png" && ! -e "$tmp/big.png" ]]; then ok; else bad "render error left a file"; fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -86,9 +86,9 @@ TEST(Bounds, ContainPlacedPrimitivesAndFixedLogics) {
 // Every logic family's union, intersection and difference (with each complement) is bounded by
 // its values at the ends of the argument intervals: the monotonicity bounds.hpp relies on.
 TEST(Bounds, ContainEveryLogicFamily) {
-  const char* families[] = {"product",  "godel", "lukasiewicz", "yager",  "einstein",
-                            "hamacher", "dombi", "dubois-prade", "weber", "bezier",
-                            "li-tian",  "li-tian-hat"};
+  const char* families[] = {"product",  "godel",    "lukasiewicz", "yager",
+                            "einstein", "hamacher", "dombi",       "dubois-prade",
+                            "weber",    "bezier",   "li-tian",     "li-tian-hat"};
   for (const char* fam : families) {
     const auto family = logic::family_from_name(fam);
     ASSERT_TRUE(family) << fam;

@@ -4,10 +4,10 @@
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 #include <set>
 #include <string>
 
@@ -21,11 +21,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Tree sphere_tree(double radius, const char* extra = "") {
-  return io::read_tree_string(
-      std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+  return io::read_tree_string(std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
           "root": {"type": "sphere", "radius": )") +
-          std::to_string(radius) + R"(, "sharpness": 200)" + extra + "}}",
-      "sphere");
+                                  std::to_string(radius) + R"(, "sharpness": 200)" + extra + "}}",
+                              "sphere");
 }
 
 long euler_characteristic(const TriangleMesh& m) {
@@ -100,6 +99,8 @@ TEST(Mesh, PruningIsExactOnRandomUnifiedQuadricTrees) {
   }
 }
 
+TriangleMesh expect_simplified_equal(const Tree& tree);
+
 // Sixteen balls in a union: each brick needs one or two of them. The simplified trees give the
 // same triangles as the whole tree, and vertices within rounding.
 TEST(Mesh, SimplifiedBricksMatchTheWholeTree) {
@@ -114,21 +115,34 @@ TEST(Mesh, SimplifiedBricksMatchTheWholeTree) {
       R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op": "union", "children": [)" +
           children + "]}}",
       "balls");
+  EXPECT_EQ(euler_characteristic(expect_simplified_equal(tree)), 2 * 16);  // sixteen spheres
+  // The balls carved out of a slab through a complement node (kept by the simplification).
+  const Tree carved = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op": "intersection",
+          "children": [{"type": "box", "size": [1.8, 1.8, 0.5], "translate": [0, 0, 0.1], "sharpness": 60},
+                       {"op": "complement", "children": [{"op": "union", "children": [)" +
+          children + "]}]}]}}",
+      "carved");
+  expect_simplified_equal(carved);
+}
+
+TriangleMesh expect_simplified_equal(const Tree& tree) {
   MeshOptions o;
   o.resolution = 64;
   MeshStats simple_stats, whole_stats;
   const TriangleMesh simple = extract_mesh(tree, tree.params.values(), o, &simple_stats);
   o.simplify = false;
   const TriangleMesh whole = extract_mesh(tree, tree.params.values(), o, &whole_stats);
-  ASSERT_EQ(simple.triangles, whole.triangles);
-  ASSERT_EQ(simple.vertices.size(), whole.vertices.size());
-  for (std::size_t v = 0; v < simple.vertices.size(); ++v) {
+  EXPECT_FALSE(simple.triangles.empty());
+  EXPECT_EQ(simple.triangles, whole.triangles);
+  EXPECT_EQ(simple.vertices.size(), whole.vertices.size());
+  for (std::size_t v = 0; v < std::min(simple.vertices.size(), whole.vertices.size()); ++v) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(simple.vertices[v][c], whole.vertices[v][c], 1e-4);
   }
   EXPECT_EQ(open_or_misoriented_edges(simple), 0u);
-  EXPECT_EQ(euler_characteristic(simple), 2 * 16);  // sixteen separate spheres
   EXPECT_EQ(simple_stats.points_evaluated, whole_stats.points_evaluated);
-  EXPECT_LT(simple_stats.leaves_evaluated * 4, whole_stats.leaves_evaluated);
+  EXPECT_LT(simple_stats.leaves_evaluated * 3, whole_stats.leaves_evaluated);
+  return simple;
 }
 
 TEST(Mesh, CappedAtTheDomainBoundary) {

@@ -9,12 +9,10 @@
 
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/fit/fit.hpp"
+#include "fuzzycsg/io/png.hpp"  // encode_png
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg {
-
-// PNG bytes of an 8-bit image (channels 1, 3 or 4), rows top to bottom.
-std::string encode_png(int width, int height, int channels, std::span<const unsigned char> pixels);
 
 // The loss curve on a log10 axis against the step, with axes, ticks and a title.
 std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view title,

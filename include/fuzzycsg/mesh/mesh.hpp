@@ -5,11 +5,11 @@
 // The domain (the tree's "domain", default [-1, 1]^dim) is divided into `resolution` cells per
 // axis. An octree over the cells is refined only where occupancy_bounds() (bounds.hpp) cannot
 // exclude the 0.5 level; the bricks of `brick` cells per axis that remain are evaluated with
-// the SIMD evaluator, each with the tree simplified for it, and contoured by marching tetrahedra on the Kuhn triangulation of each
-// cell (six tetrahedra sharing the cell's main diagonal, the same split in every cell, so that
-// neighbouring cells agree on their shared faces and the surface has no cracks; the 256-case
-// marching-cubes table resolves ambiguous faces per cell and can leave holes). In 2D each
-// square splits into two triangles along its diagonal.
+// the SIMD evaluator, each with the tree simplified for it, and contoured by marching tetrahedra on
+// the Kuhn triangulation of each cell (six tetrahedra sharing the cell's main diagonal, the same
+// split in every cell, so that neighbouring cells agree on their shared faces and the surface has
+// no cracks; the 256-case marching-cubes table resolves ambiguous faces per cell and can leave
+// holes). In 2D each square splits into two triangles along its diagonal.
 //
 // The result is closed even where the shape reaches the domain's boundary: the grid points on
 // the boundary count as outside, so the surface is capped there. A vertex lies on a grid edge

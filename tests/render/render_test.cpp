@@ -1,0 +1,103 @@
+#include "fuzzycsg/render/render.hpp"
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include <memory>
+#include <string>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
+
+namespace fuzzycsg {
+namespace {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  std::array<int, 3> at(int x, int y) const {
+    const unsigned char* p = rgb.data() + (static_cast<std::size_t>(y) * width + x) * 3;
+    return {p[0], p[1], p[2]};
+  }
+};
+
+Image decode(const std::string& png) {
+  Image im;
+  int channels = 0;
+  unsigned char* data = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
+                                              static_cast<int>(png.size()), &im.width, &im.height,
+                                              &channels, 3);
+  if (data == nullptr) return im;
+  im.rgb.assign(data, data + static_cast<std::size_t>(im.width) * im.height * 3);
+  stbi_image_free(data);
+  return im;
+}
+
+Tree ball(const char* where = "[0, 0, 0]") {
+  return io::read_tree_string(
+      std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+          "root": {"type": "sphere", "radius": 0.5, "sharpness": 100, "translate": )") +
+          where + "}}",
+      "ball");
+}
+
+bool background(const std::array<int, 3>& c) {
+  // The background is grey (equal channels); the shape is blue-grey (blue above red).
+  return c[0] == c[1] && c[1] == c[2];
+}
+
+TEST(Render, FramedBallFillsTheMiddleAndNotTheCorners) {
+  const Tree tree = ball("[0.2, -0.1, 0.1]");
+  RenderOptions o;
+  o.width = 96;
+  o.height = 64;
+  o.resolution = 48;
+  const Image im = decode(render_png(tree, tree.params.values(), o));
+  ASSERT_EQ(im.width, 96);
+  ASSERT_EQ(im.height, 64);
+  const auto centre = im.at(48, 32);
+  EXPECT_FALSE(background(centre));
+  EXPECT_GT(centre[2], centre[0]);  // outside faces, not the red of back faces
+  EXPECT_TRUE(background(im.at(1, 1)));
+  EXPECT_TRUE(background(im.at(94, 62)));
+}
+
+TEST(Render, ViewsSideBySideAndAGivenCamera) {
+  const Tree tree = ball();
+  RenderOptions o;
+  o.width = 40;
+  o.height = 30;
+  o.resolution = 32;
+  o.views = 3;
+  const Image im = decode(render_png(tree, tree.params.values(), o));
+  EXPECT_EQ(im.width, 120);
+  for (int k = 0; k < 3; ++k) EXPECT_FALSE(background(im.at(40 * k + 20, 15))) << k;
+  // A camera looking away from the ball sees only background.
+  o.views = 1;
+  o.camera = Camera{{0, 0, 3}, {0, 0, 6}, {0, 1, 0}, 30.0};
+  const Image away = decode(render_png(tree, tree.params.values(), o));
+  EXPECT_TRUE(background(away.at(20, 15)));
+}
+
+TEST(Render, BadInput) {
+  const Tree tree = ball();
+  RenderOptions o;
+  o.width = 16;
+  o.height = 16;
+  o.resolution = 16;
+  o.camera = Camera{{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 30.0};  // inside the ball
+  EXPECT_THROW(render_png(tree, tree.params.values(), o), InputError);
+  o.camera = Camera{{2, 0, 0}, {2, 0, 0}, {0, 0, 1}, 30.0};  // eye at the target
+  EXPECT_THROW(render_png(tree, tree.params.values(), o), InputError);
+  o.camera = Camera{{2, 0, 0}, {0, 0, 0}, {1, 0, 0}, 30.0};  // up along the view
+  EXPECT_THROW(render_png(tree, tree.params.values(), o), InputError);
+  o.camera.reset();
+  o.width = 0;
+  EXPECT_THROW(render_png(tree, tree.params.values(), o), InputError);
+  o.width = 16;
+  const Tree far = ball("[5, 5, 5]");
+  EXPECT_THROW(render_png(far, far.params.values(), o), InputError);  // nothing to draw
+}
+
+}  // namespace
+}  // namespace fuzzycsg
