@@ -32,8 +32,8 @@ struct RenderArgs {
 int run_render(RenderArgs a) {
   const Tree tree = io::read_tree_file(a.tree);
   if (tree.dim != 3) {
-    throw InputError(fmt::format("{}: the tree is 2D; `mesh {} -o out.svg` draws its contours",
-                                 a.tree, a.tree));
+    throw InputError(
+        fmt::format("{}: the tree is 2D; `mesh {} -o out.svg` draws its contours", a.tree, a.tree));
   }
   a.options.width = a.size[0];
   a.options.height = a.size[1];

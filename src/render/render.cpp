@@ -55,8 +55,9 @@ class RayScene {
     RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                mesh.triangles.size()));
     if (vb == nullptr || ib == nullptr) {
       rtcReleaseGeometry(g);
       throw Error("render: Embree buffer allocation failed");
@@ -145,7 +146,8 @@ void check_camera(const Camera& c, const Tree& tree, std::span<const double> par
     throw InputError("camera: the up direction is along the view (or zero)");
   }
   if (!(c.fov_deg > 0 && c.fov_deg < 180)) {
-    throw InputError(fmt::format("camera: field of view must be in (0, 180) degrees (got {})", c.fov_deg));
+    throw InputError(
+        fmt::format("camera: field of view must be in (0, 180) degrees (got {})", c.fov_deg));
   }
   const double eye[3] = {c.eye[0], c.eye[1], c.eye[2]};
   if (reference_occupancy(tree, params, eye) >= 0.5) {
@@ -175,8 +177,9 @@ Camera framing_camera(const TriangleMesh& mesh, double azimuth_deg, double eleva
   e1 = normalized(sub(e1, scale(z, dot(e1, z))));
   const Vec e2 = cross(z, e1);
   const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
-  const Vec dir = add(add(scale(e1, std::cos(el) * std::cos(az)), scale(e2, std::cos(el) * std::sin(az))),
-                      scale(z, std::sin(el)));
+  const Vec dir =
+      add(add(scale(e1, std::cos(el) * std::cos(az)), scale(e2, std::cos(el) * std::sin(az))),
+          scale(z, std::sin(el)));
   const double half_v = 0.5 * fov_deg * kPi / 180.0;
   const double half_h = std::atan(std::tan(half_v) * aspect);
   const double distance = 1.08 * radius / std::sin(std::min(half_v, half_h));
@@ -188,11 +191,11 @@ Camera framing_camera(const TriangleMesh& mesh, double azimuth_deg, double eleva
   return c;
 }
 
-std::string render_png(const Tree& tree, std::span<const double> params,
-                       const RenderOptions& o) {
+std::string render_png(const Tree& tree, std::span<const double> params, const RenderOptions& o) {
   if (tree.dim != 3) throw InputError("render: the tree is 2D (its picture is drawn by plot)");
   if (o.width < 1 || o.width > 8192 || o.height < 1 || o.height > 8192) {
-    throw InputError(fmt::format("size must be 1..8192 pixels a side (got {}x{})", o.width, o.height));
+    throw InputError(
+        fmt::format("size must be 1..8192 pixels a side (got {}x{})", o.width, o.height));
   }
   if (o.views < 1 || o.views > 8) {
     throw InputError(fmt::format("views must be 1..8 (got {})", o.views));
@@ -239,10 +242,12 @@ std::string render_png(const Tree& tree, std::span<const double> params,
               sum = add(sum, hit ? *hit : Vec{g, g, g});
             }
             unsigned char* p =
-                px.data() + (static_cast<std::size_t>(j) * total_width + static_cast<std::size_t>(k) * o.width +
-                             static_cast<std::size_t>(i)) * 3;
+                px.data() + (static_cast<std::size_t>(j) * total_width +
+                             static_cast<std::size_t>(k) * o.width + static_cast<std::size_t>(i)) *
+                                3;
             for (int ch = 0; ch < 3; ++ch) {
-              p[ch] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(sum[ch] / 4, 0.0, 1.0)));
+              p[ch] = static_cast<unsigned char>(
+                  std::lround(255.0 * std::clamp(sum[ch] / 4, 0.0, 1.0)));
             }
           }
         }

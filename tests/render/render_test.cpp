@@ -24,9 +24,9 @@ struct Image {
 Image decode(const std::string& png) {
   Image im;
   int channels = 0;
-  unsigned char* data = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
-                                              static_cast<int>(png.size()), &im.width, &im.height,
-                                              &channels, 3);
+  unsigned char* data =
+      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
+                            static_cast<int>(png.size()), &im.width, &im.height, &channels, 3);
   if (data == nullptr) return im;
   im.rgb.assign(data, data + static_cast<std::size_t>(im.width) * im.height * 3);
   stbi_image_free(data);
@@ -34,11 +34,10 @@ Image decode(const std::string& png) {
 }
 
 Tree ball(const char* where = "[0, 0, 0]") {
-  return io::read_tree_string(
-      std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+  return io::read_tree_string(std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
           "root": {"type": "sphere", "radius": 0.5, "sharpness": 100, "translate": )") +
-          where + "}}",
-      "ball");
+                                  where + "}}",
+                              "ball");
 }
 
 bool background(const std::array<int, 3>& c) {
