@@ -2,7 +2,8 @@
 //                 [--views N] [--up [-]x|y|z] [--resolution N] [--threads N]
 //
 // A shaded picture of a 3D tree's 0.5 level set, from a camera or from default cameras that
-// frame the shape (several side by side with --views).
+// frame the shape (several side by side with --views); of a 2D tree, its occupancy with a
+// colour scale and the 0.5 contour.
 
 #include <fmt/format.h>
 
@@ -31,9 +32,16 @@ struct RenderArgs {
 
 int run_render(RenderArgs a) {
   const Tree tree = io::read_tree_file(a.tree);
-  if (tree.dim != 3) {
-    throw InputError(
-        fmt::format("{}: the tree is 2D; `mesh {} -o out.svg` draws its contours", a.tree, a.tree));
+  if (tree.dim == 2) {
+    // The occupancy with a colour scale and the 0.5 contour; --size W: the longer side.
+    std::string png;
+    try {
+      png = plot_2d_png(tree, tree.params.values(), a.size[0], a.options.threads);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", a.tree, e.what()));
+    }
+    io::write_text_file_atomic(a.out, png);
+    return 0;
   }
   a.options.width = a.size[0];
   a.options.height = a.size[1];
@@ -62,7 +70,8 @@ int run_render(RenderArgs a) {
 
 Verb register_render(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
-  CLI::App* cmd = app.add_subcommand("render", "A shaded picture (PNG) of a 3D tree");
+  CLI::App* cmd = app.add_subcommand(
+      "render", "A picture (PNG): a 3D tree shaded, a 2D tree's occupancy and 0.5 contour");
   cmd->add_option("tree", a->tree, "Tree file")->required();
   cmd->add_option("-o,--output", a->out, "PNG file")->required();
   cmd->add_option("--size", a->size, "Width and height of one view in pixels")

@@ -1,7 +1,6 @@
 #include "fuzzycsg/fit/plot.hpp"
 
 #include <fmt/core.h>
-#include <stb_easy_font.h>
 
 #include <algorithm>
 #include <array>
@@ -10,81 +9,11 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/canvas.hpp"
 
 namespace fuzzycsg {
 
 namespace {
-
-struct Rgb {
-  unsigned char r, g, b;
-};
-
-class Canvas {
- public:
-  Canvas(int w, int h) : w_(w), h_(h), px_(static_cast<std::size_t>(w * h * 3), 255) {}
-
-  void set(int x, int y, Rgb c) {
-    if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
-    const std::size_t i =
-        (static_cast<std::size_t>(y) * static_cast<std::size_t>(w_) + static_cast<std::size_t>(x)) *
-        3;
-    px_[i] = c.r;
-    px_[i + 1] = c.g;
-    px_[i + 2] = c.b;
-  }
-
-  void fill(int x0, int y0, int x1, int y1, Rgb c) {
-    for (int y = std::max(0, y0); y < std::min(h_, y1); ++y) {
-      for (int x = std::max(0, x0); x < std::min(w_, x1); ++x) set(x, y, c);
-    }
-  }
-
-  // A line `thick` pixels wide (a square brush walked along the segment).
-  void line(double x0, double y0, double x1, double y1, Rgb c, int thick = 1) {
-    const double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
-    const int steps = std::max(1, static_cast<int>(std::ceil(len)));
-    for (int s = 0; s <= steps; ++s) {
-      const double t = static_cast<double>(s) / steps;
-      const int x = static_cast<int>(std::lround(x0 + t * (x1 - x0)));
-      const int y = static_cast<int>(std::lround(y0 + t * (y1 - y0)));
-      fill(x - thick / 2, y - thick / 2, x - thick / 2 + thick, y - thick / 2 + thick, c);
-    }
-  }
-
-  // Text at (x, y) (top-left), `scale` screen pixels per font pixel. align: 0 left, 1 centre,
-  // 2 right.
-  void text(double x, double y, const std::string& s, Rgb c, int scale = 2, int align = 0) {
-    std::string buf = s;
-    const int width = stb_easy_font_width(buf.data()) * scale;
-    if (align == 1) x -= width / 2.0;
-    if (align == 2) x -= width;
-    std::vector<char> vbuf(s.size() * 1200 + 64);  // a glyph takes up to ~1 kB of quads
-    const int quads =
-        stb_easy_font_print(0, 0, buf.data(), nullptr, vbuf.data(), static_cast<int>(vbuf.size()));
-    // Each quad is 4 vertices of {float x, y, z; uint8 rgba[4]}, axis-aligned.
-    for (int q = 0; q < quads; ++q) {
-      std::array<float, 4> xs{}, ys{};
-      for (int v = 0; v < 4; ++v) {
-        const char* p =
-            vbuf.data() + (static_cast<std::size_t>(q) * 4 + static_cast<std::size_t>(v)) * 16;
-        std::memcpy(&xs[static_cast<std::size_t>(v)], p, sizeof(float));
-        std::memcpy(&ys[static_cast<std::size_t>(v)], p + sizeof(float), sizeof(float));
-      }
-      const double qx0 = *std::min_element(xs.begin(), xs.end()) * scale + x;
-      const double qx1 = *std::max_element(xs.begin(), xs.end()) * scale + x;
-      const double qy0 = *std::min_element(ys.begin(), ys.end()) * scale + y;
-      const double qy1 = *std::max_element(ys.begin(), ys.end()) * scale + y;
-      fill(static_cast<int>(std::lround(qx0)), static_cast<int>(std::lround(qy0)),
-           static_cast<int>(std::lround(qx1)), static_cast<int>(std::lround(qy1)), c);
-    }
-  }
-
-  std::string png() const { return encode_png(w_, h_, 3, px_); }
-
- private:
-  int w_, h_;
-  std::vector<unsigned char> px_;
-};
 
 // 1, 2, 5 x 10^k spacing giving about `target` intervals over [lo, hi].
 double nice_step(double lo, double hi, int target) {

@@ -98,5 +98,31 @@ TEST(Render, BadInput) {
   EXPECT_THROW(render_png(far, far.params.values(), o), InputError);  // nothing to draw
 }
 
+TEST(Plot2d, OccupancyColoursContourAndBar) {
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+          "root": {"type": "circle", "radius": 0.5, "sharpness": 40}})",
+      "disc");
+  const Image im = decode(plot_2d_png(tree, tree.params.values(), 200));
+  // 20 px margins, a 200 x 200 plot, then the colour bar and its labels.
+  ASSERT_EQ(im.height, 240);
+  ASSERT_GT(im.width, 240);
+  const auto inside = im.at(120, 120), outside = im.at(25, 25);
+  EXPECT_GT(inside[0], 200);  // viridis at 1: yellow
+  EXPECT_GT(inside[1], 200);
+  EXPECT_LT(outside[1], 40);  // at 0: dark purple
+  EXPECT_GT(outside[2], 60);
+  // The 0.5 contour crosses the middle row at x = +-0.5 (pixels 20 + 50 and 20 + 150), white.
+  int white = 0;
+  for (int x = 60; x < 80; ++x) {
+    const auto c = im.at(x, 120);
+    white += (c[0] == 255 && c[1] == 255 && c[2] == 255) ? 1 : 0;
+  }
+  EXPECT_GE(white, 1);
+  EXPECT_THROW(plot_2d_png(tree, tree.params.values(), 4), InputError);
+  const Tree ball3 = ball();
+  EXPECT_THROW(plot_2d_png(ball3, ball3.params.values()), InputError);
+}
+
 }  // namespace
 }  // namespace fuzzycsg

@@ -1,7 +1,8 @@
 #pragma once
-// Pictures of a 3D tree: its 0.5 level set (mesh.hpp) ray cast with Embree and shaded
-// (two directional lights and an ambient term on smooth vertex normals, 2x2 samples a pixel),
-// from a given camera or from default cameras that frame the shape.
+// Pictures of trees. 3D: the 0.5 level set (mesh.hpp) ray cast with Embree and shaded (two
+// directional lights and an ambient term on smooth vertex normals, 2x2 samples a pixel), from a
+// given camera or from default cameras that frame the shape. 2D: the occupancy with a colour
+// scale and the 0.5 contour.
 
 #include <array>
 #include <optional>
@@ -39,5 +40,11 @@ Camera framing_camera(const TriangleMesh& mesh, double azimuth_deg, double eleva
 // (1..8192 pixels a side, 1..8 views).
 std::string render_png(const Tree& tree, std::span<const double> params,
                        const RenderOptions& options);
+
+// A 2D tree's occupancy over its domain as a PNG, in the style of the papers' figures: a
+// colour scale (viridis) from 0 to 1, the 0.5 contour (contours from mesh.hpp) in white, and a
+// labelled colour bar. `size`: pixels along the domain's longer side (16..8192).
+std::string plot_2d_png(const Tree& tree, std::span<const double> params, int size = 600,
+                        int threads = 0);
 
 }  // namespace fuzzycsg
