@@ -50,6 +50,14 @@ int run_mesh(MeshArgs a) {
   const auto wrap = [&](const InputError& e) {
     return InputError(fmt::format("{}: {}", a.tree, e.what()));
   };
+  // An empty level set is an error unless asked for: nothing is written.
+  const auto refuse_empty = [&](const char* what) {
+    if (a.allow_empty) return;
+    throw InputError(fmt::format(
+        "{}: the 0.5 level set is empty in the domain at resolution {} (nothing written; "
+        "--allow-empty writes an empty {})",
+        a.tree, a.options.resolution, what));
+  };
   MeshStats stats;
   if (tree.dim == 3) {
     TriangleMesh mesh;
@@ -58,12 +66,7 @@ int run_mesh(MeshArgs a) {
     } catch (const InputError& e) {
       throw wrap(e);
     }
-    if (mesh.triangles.empty() && !a.allow_empty) {
-      throw InputError(fmt::format(
-          "{}: the 0.5 level set is empty in the domain at resolution {} (nothing written; "
-          "--allow-empty writes an empty mesh)",
-          a.tree, a.options.resolution));
-    }
+    if (mesh.triangles.empty()) refuse_empty("mesh");
     write_mesh(mesh, a.out);
     print_stats(stats, fmt::format("{} vertices, {} triangles, volume {:.6g}", mesh.vertices.size(),
                                    mesh.triangles.size(), mesh_volume(mesh)));
@@ -79,12 +82,7 @@ int run_mesh(MeshArgs a) {
     } catch (const InputError& e) {
       throw wrap(e);
     }
-    if (contours.loops.empty() && !a.allow_empty) {
-      throw InputError(fmt::format(
-          "{}: the 0.5 level set is empty in the domain at resolution {} (nothing written; "
-          "--allow-empty writes an empty file)",
-          a.tree, a.options.resolution));
-    }
+    if (contours.loops.empty()) refuse_empty("file");
     write_contours(contours, tree, a.out);
     print_stats(stats, fmt::format("{} loops, area {:.6g}", contours.loops.size(),
                                    contours_area(contours)));
