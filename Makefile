@@ -2,7 +2,7 @@
 #   make demo   installs missing Debian packages, builds Release, runs the demo
 #   make test   same set-up, then the whole test suite through ctest
 # Other targets: build, asan (tests under AddressSanitizer + UBSan), format, format-check,
-# fuzz (bounded libFuzzer run), bench, clean.
+# fuzz (bounded libFuzzer run), bench, gallery (docs/gallery's pictures), clean.
 
 JOBS ?= $(shell nproc)
 PRESET ?= release
@@ -10,7 +10,7 @@ BUILD_DIR = build/$(PRESET)
 WERROR ?= OFF
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build demo test asan format format-check fuzz bench clean
+.PHONY: all deps configure build demo test asan format format-check fuzz bench gallery clean
 
 all: build
 
@@ -44,6 +44,9 @@ fuzz: deps
 bench: deps
 	@FUZZYCSG_WITH_TORCH=1 bash scripts/install-deps.sh
 	@bash bench/run_eval_bench.sh
+
+gallery:
+	@bash scripts/make-gallery.sh
 
 clean:
 	@rm -rf build

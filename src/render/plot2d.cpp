@@ -12,30 +12,6 @@
 
 namespace fuzzycsg {
 
-namespace {
-
-// Matplotlib's viridis at nine stops, linearly interpolated.
-Rgb viridis(double t) {
-  static constexpr std::array<std::array<double, 3>, 9> kStops{{{68, 1, 84},
-                                                                {71, 44, 122},
-                                                                {59, 81, 139},
-                                                                {44, 113, 142},
-                                                                {33, 144, 141},
-                                                                {39, 173, 129},
-                                                                {92, 200, 99},
-                                                                {170, 220, 50},
-                                                                {253, 231, 37}}};
-  t = std::clamp(t, 0.0, 1.0) * 8.0;
-  const int i = std::min(7, static_cast<int>(t));
-  const double f = t - i;
-  const auto mix = [&](int c) {
-    return static_cast<unsigned char>(std::lround(kStops[i][c] * (1 - f) + kStops[i + 1][c] * f));
-  };
-  return {mix(0), mix(1), mix(2)};
-}
-
-}  // namespace
-
 std::string plot_2d_png(const Tree& tree, std::span<const double> params, int size, int threads) {
   if (tree.dim != 2) throw InputError("plot_2d_png: the tree is 3D");
   if (size < 16 || size > 8192) {

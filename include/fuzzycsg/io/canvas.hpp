@@ -11,6 +11,9 @@ struct Rgb {
   unsigned char r, g, b;
 };
 
+// Matplotlib's viridis colour map, t in [0, 1] (clamped).
+Rgb viridis(double t);
+
 class Canvas {
  public:
   Canvas(int w, int h);
