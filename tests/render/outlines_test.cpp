@@ -2,9 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -24,19 +26,14 @@ struct Svg {
 Svg parse(std::string text) {
   Svg s;
   s.text = std::move(text);
-  std::smatch m;
-  if (std::regex_search(s.text, m, std::regex(R"re(viewBox="0 0 ([0-9.]+) ([0-9.]+)")re"))) {
-    s.width = std::stod(m[1]);
-    s.height = std::stod(m[2]);
+  if (const auto at = s.text.find("viewBox=\""); at != std::string::npos) {
+    double x = 0, y = 0;
+    std::sscanf(s.text.c_str() + at, "viewBox=\"%lf %lf %lf %lf\"", &x, &y, &s.width, &s.height);
   }
-  if (std::regex_search(
-          s.text, m,
-          std::regex(
-              R"re(class="frame" x="([0-9.]+)" y="([0-9.]+)" width="([0-9.]+)" height="([0-9.]+)")re"))) {
-    s.fx = std::stod(m[1]);
-    s.fy = std::stod(m[2]);
-    s.fw = std::stod(m[3]);
-    s.fh = std::stod(m[4]);
+  if (const auto at = s.text.find("class=\"frame\""); at != std::string::npos) {
+    std::sscanf(s.text.c_str() + at,
+                "class=\"frame\" x=\"%lf\" y=\"%lf\" width=\"%lf\" height=\"%lf\"", &s.fx, &s.fy,
+                &s.fw, &s.fh);
   }
   return s;
 }
@@ -55,15 +52,20 @@ std::vector<std::string> path_data(const std::string& svg, const std::string& ta
 
 // The points of a path's d ("M x y L x y ... Z").
 std::vector<std::array<double, 2>> points(const std::string& d) {
-  std::vector<std::array<double, 2>> p;
-  const std::regex num(R"([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)");
   std::vector<double> v;
-  for (auto it = std::sregex_iterator(d.begin(), d.end(), num); it != std::sregex_iterator();
-       ++it) {
-    v.push_back(std::stod(it->str()));
+  const char* p = d.c_str();
+  while (*p != '\0') {
+    if (*p == '-' || *p == '+' || *p == '.' || (*p >= '0' && *p <= '9')) {
+      char* end = nullptr;
+      v.push_back(std::strtod(p, &end));
+      p = end;
+    } else {
+      ++p;
+    }
   }
-  for (std::size_t i = 0; i + 1 < v.size(); i += 2) p.push_back({v[i], v[i + 1]});
-  return p;
+  std::vector<std::array<double, 2>> pts;
+  for (std::size_t i = 0; i + 1 < v.size(); i += 2) pts.push_back({v[i], v[i + 1]});
+  return pts;
 }
 
 int count_of(const std::string& text, const std::string& what) {
