@@ -3,7 +3,8 @@
 // Inverse CSG (Liu et al. 2024): fits a full binary tree of fuzzy booleans to a mesh, a picture or
 // a tree file, snaps and prunes it, measures it, and writes OUTDIR/tree.json (trained),
 // tree_pruned.json, report.json, loss.png (and for 2D targets target.png, fit.png and
-// contours.svg, for 3D slices.png and mesh.obj: the pruned tree's 0.5 level set), with
+// contours.svg, for 3D slices.png and mesh.obj: the pruned tree's 0.5 level set; pictures of the
+// pruned tree: render.png in 3D, plot.png and outlines.svg in 2D), with
 // OUTDIR/checkpoint.json every --checkpoint-every steps for --resume.
 
 #include <fmt/format.h>
@@ -23,6 +24,7 @@
 #include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
+#include "fuzzycsg/render/render.hpp"
 
 namespace fuzzycsg::app {
 
@@ -264,6 +266,39 @@ int run_fit_job(const FitJob& job) {
       surface = ", contours.svg";
     }
   }
+  // Pictures of the pruned tree: shaded views (3D), the occupancy plot and the primitives'
+  // outlines over the result (2D). One that cannot be drawn (an empty result) is reported in
+  // one line and does not fail the fit.
+  std::string pictures;
+  const auto picture = [&](const char* name, const auto& draw) {
+    std::string bytes;
+    try {
+      bytes = draw();
+    } catch (const Error& e) {  // InputError (an empty result) or a renderer's failure
+      fmt::print(stderr, "fit: {} not written: {}\n", name, e.what());
+      return;
+    }
+    io::write_text_file_atomic(out / name, bytes);
+    pictures += std::string(", ") + name;
+  };
+  if (dim == 3) {
+    picture("render.png", [&] {
+      RenderOptions ro;
+      ro.width = 400;
+      ro.height = 300;
+      ro.views = 3;
+      ro.threads = options.threads;
+      return render_png(r.pruned, r.pruned.params.values(), ro);
+    });
+  } else {
+    picture("plot.png",
+            [&] { return plot_2d_png(r.pruned, r.pruned.params.values(), 600, options.threads); });
+    picture("outlines.svg", [&] {
+      OutlineOptions oo;
+      oo.threads = options.threads;
+      return outlines_svg(r.pruned, r.pruned.params.values(), oo);
+    });
+  }
   io::write_text_file_atomic(out / "report.json", report);
 
   if (!job.quiet) {
@@ -290,8 +325,9 @@ int run_fit_job(const FitJob& job) {
     };
     line("trained", r.metrics_trained);
     line("pruned", r.metrics_pruned);
-    fmt::print("fit: wrote {}/{{tree.json, tree_pruned.json, report.json, loss.png{}{}}}\n",
-               out.string(), dim == 2 ? ", target.png, fit.png" : ", slices.png", surface);
+    fmt::print("fit: wrote {}/{{tree.json, tree_pruned.json, report.json, loss.png{}{}{}}}\n",
+               out.string(), dim == 2 ? ", target.png, fit.png" : ", slices.png", surface,
+               pictures);
   }
   return 0;
 }

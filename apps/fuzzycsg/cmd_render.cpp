@@ -1,12 +1,14 @@
-// fuzzycsg render TREE -o OUT.png [--size W H] [--camera EX EY EZ TX TY TZ] [--fov F]
+// fuzzycsg render TREE -o OUT.png|OUT.svg [--size W H] [--camera EX EY EZ TX TY TZ] [--fov F]
 //                 [--views N] [--up [-]x|y|z] [--resolution N] [--threads N]
 //
 // A shaded picture of a 3D tree's 0.5 level set, from a camera or from default cameras that
 // frame the shape (several side by side with --views); of a 2D tree, its occupancy with a
-// colour scale and the 0.5 contour.
+// colour scale and the 0.5 contour, or (OUT.svg) its primitives' outlines over the result.
 
 #include <fmt/format.h>
 
+#include <cctype>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +34,26 @@ struct RenderArgs {
 
 int run_render(RenderArgs a) {
   const Tree tree = io::read_tree_file(a.tree);
+  std::string ext = std::filesystem::path(a.out).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".svg") {
+    // The primitives' outlines over the filled result; --size W: the longer side.
+    if (tree.dim != 2) {
+      throw InputError(fmt::format("{}: SVG is for 2D trees (a 3D tree renders to PNG)", a.out));
+    }
+    OutlineOptions o;
+    o.size = a.size[0];
+    o.resolution = a.options.resolution;
+    o.threads = a.options.threads;
+    std::string svg;
+    try {
+      svg = outlines_svg(tree, tree.params.values(), o);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", a.tree, e.what()));
+    }
+    io::write_text_file_atomic(a.out, svg);
+    return 0;
+  }
   if (tree.dim == 2) {
     // The occupancy with a colour scale and the 0.5 contour; --size W: the longer side.
     std::string png;
@@ -71,9 +93,11 @@ int run_render(RenderArgs a) {
 Verb register_render(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "render", "A picture (PNG): a 3D tree shaded, a 2D tree's occupancy and 0.5 contour");
+      "render",
+      "A picture (PNG): a 3D tree shaded, a 2D tree's occupancy and 0.5 contour; (SVG) a 2D "
+      "tree's primitive outlines over the result");
   cmd->add_option("tree", a->tree, "Tree file")->required();
-  cmd->add_option("-o,--output", a->out, "PNG file")->required();
+  cmd->add_option("-o,--output", a->out, "PNG file, or SVG for a 2D tree")->required();
   cmd->add_option("--size", a->size, "Width and height of one view in pixels")
       ->expected(2)
       ->capture_default_str()

@@ -74,7 +74,8 @@ if "$bin" info "$tmp/sphere.json" | grep -qE "primitives +2" &&
 if "$bin" demo --gradient --resolution 32 | grep -q "volume"; then ok; else bad "demo --gradient"; fi
 if "$bin" demo -o "$tmp/demo" --iters 300 --prims 8 --threads 2 >"$tmp/demo.log" 2>&1 &&
     [[ -s "$tmp/demo/tree.json" && -s "$tmp/demo/tree_pruned.json" && -s "$tmp/demo/report.json" &&
-       -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" && -s "$tmp/demo/mesh.obj" ]]; then
+       -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" && -s "$tmp/demo/mesh.obj" &&
+       -s "$tmp/demo/render.png" ]] && grep -q "mesh.obj, render.png}" "$tmp/demo.log"; then
   ok
 else
   bad "demo: $(tail -5 "$tmp/demo.log")"
@@ -90,9 +91,16 @@ JSON
 if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --prims 4 --iters 200 --batch 256 --lr 0.01 \
       --metric-points 20000 --checkpoint-every 50 --threads 2 >"$tmp/fit.log" 2>&1; then
   ok
-  for f in tree.json tree_pruned.json report.json loss.png target.png fit.png contours.svg checkpoint.json; do
+  for f in tree.json tree_pruned.json report.json loss.png target.png fit.png contours.svg plot.png \
+      outlines.svg checkpoint.json; do
     if [[ -s "$tmp/fit/$f" ]]; then ok; else bad "fit did not write $f"; fi
   done
+  if [[ $(grep -c 'class="outline"' "$tmp/fit/outlines.svg") -ge 1 ]] &&
+      grep -q "contours.svg, plot.png, outlines.svg}" "$tmp/fit.log"; then
+    ok
+  else
+    bad "fit outlines.svg or summary: $(tail -1 "$tmp/fit.log")"
+  fi
   if grep -q '"stop": "iterations"' "$tmp/fit/report.json" && grep -q '"steps": 200' "$tmp/fit/report.json" &&
       grep -q '"changed_type"' "$tmp/fit/report.json" && grep -q '"mse"' "$tmp/fit/report.json"; then
     ok
@@ -136,6 +144,27 @@ expect_error "bad.png" "$bin" fit "$tmp/bad.png" -o "$tmp/f2" -q
 : >"$tmp/empty.off"
 expect_error "empty.off" "$bin" fit "$tmp/empty.off" -o "$tmp/f2" -q
 if [[ ! -e "$tmp/f2/tree.json" ]]; then ok; else bad "a failed fit wrote tree.json"; fi
+
+# fit whose pruned tree is empty (this seed's two spheres miss a small ball): it succeeds,
+# without mesh.obj, and says in one line that render.png was not written.
+cat >"$tmp/tiny.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+ "root": {"type": "sphere", "radius": 0.1, "translate": [0.5, 0.5, 0.5]}}
+JSON
+if "$bin" fit "$tmp/tiny.json" -o "$tmp/tiny" --prims 2 --family sphere --seed 1 --iters 300 \
+      --batch 256 --metric-points 2000 --threads 2 -q 2>"$tmp/tiny.err" && [[ -s "$tmp/tiny/tree_pruned.json" ]]; then
+  if [[ -e "$tmp/tiny/mesh.obj" ]]; then
+    # The fit found the ball after all: then the picture is there.
+    if [[ -s "$tmp/tiny/render.png" ]]; then ok; else bad "fit wrote mesh.obj but no render.png"; fi
+  elif [[ ! -e "$tmp/tiny/render.png" && $(wc -l <"$tmp/tiny.err") -eq 1 ]] &&
+      grep -q "^fit: render.png not written: .*empty" "$tmp/tiny.err"; then
+    ok
+  else
+    bad "fit with an empty result: $(cat "$tmp/tiny.err")"
+  fi
+else
+  bad "fit with an empty result failed: $(cat "$tmp/tiny.err")"
+fi
 
 # fit beyond the paper: starting from the target, re-seeding dead primitives, cosine steps.
 if "$bin" fit "$tmp/disc.json" -o "$tmp/fit-init" --prims 8 --iters 400 --batch 256 --lr 0.01 \
@@ -302,7 +331,46 @@ else
   bad "render of a 2D tree"
 fi
 expect_error "size" "$bin" render "$tmp/sphere.json" -o "$tmp/big.png" --size 0 10
-if [[ ! -e "$tmp/in.png" && ! -e "$tmp/far.png" && ! -e "$tmp/big.png" ]]; then ok; else bad "render error left a file"; fi
+# render of a 2D tree to SVG: one outline group per leaf over the result; SVG is 2D only.
+if "$bin" render "$src/examples/cart_2d.json" -o "$tmp/cart_outlines.svg" &&
+  [[ $(grep -c 'class="outline"' "$tmp/cart_outlines.svg") -eq 5 ]] &&
+  grep -q 'class="result"' "$tmp/cart_outlines.svg"; then
+  ok
+else
+  bad "render of a 2D tree to SVG"
+fi
+expect_error "s3.svg: SVG is for 2D trees" "$bin" render "$tmp/sphere.json" -o "$tmp/s3.svg"
+if [[ ! -e "$tmp/in.png" && ! -e "$tmp/far.png" && ! -e "$tmp/big.png" && ! -e "$tmp/s3.svg" ]]; then
+  ok
+else
+  bad "render error left a file"
+fi
+
+# diagram: the tree as DOT, SVG and PNG; one SVG node group per tree node; its errors.
+if "$bin" diagram "$src/examples/cart_2d.json" -o "$tmp/cart.dot" >"$tmp/out" &&
+  grep -q "ordering=out" "$tmp/cart.dot" && grep -q '"root" -> "root.children\[4\]"' "$tmp/cart.dot" &&
+  grep -q "6 nodes" "$tmp/out"; then
+  ok
+else
+  bad "diagram to .dot: $(cat "$tmp/out")"
+fi
+if "$bin" diagram "$src/examples/logic_families.json" -o "$tmp/families.svg" -q &&
+  [[ $(grep -c 'class="node"' "$tmp/families.svg") -eq 24 ]]; then
+  ok
+else
+  bad "diagram to .svg: $(grep -c 'class="node"' "$tmp/families.svg" 2>&1) node groups"
+fi
+if "$bin" diagram "$src/examples/box_with_hole.json" -o "$tmp/box.png" -q &&
+  [[ "$(head -c 8 "$tmp/box.png" | od -An -tx1 | tr -d ' \n')" == "89504e470d0a1a0a" ]]; then
+  ok
+else
+  bad "diagram to .png"
+fi
+expect_error "x.pdf: unknown diagram format '.pdf'" "$bin" diagram "$tmp/sphere.json" -o "$tmp/x.pdf"
+expect_error "cannot write" "$bin" diagram "$tmp/sphere.json" -o "$tmp/no/such/dir/x.svg"
+expect_error "negative.json: root.children\[0\].radius" "$bin" diagram "$tmp/negative.json" -o "$tmp/n.svg"
+expect_error "--direction" "$bin" diagram "$tmp/sphere.json" -o "$tmp/d.svg" --direction up
+if [[ ! -e "$tmp/x.pdf" && ! -e "$tmp/n.svg" && ! -e "$tmp/d.svg" ]]; then ok; else bad "diagram error left a file"; fi
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -2,7 +2,7 @@
 // Pictures of trees. 3D: the 0.5 level set (mesh.hpp) ray cast with Embree and shaded (two
 // directional lights and an ambient term on smooth vertex normals, 2x2 samples a pixel), from a
 // given camera or from default cameras that frame the shape. 2D: the occupancy with a colour
-// scale and the 0.5 contour.
+// scale and the 0.5 contour; the primitives' outlines over the result (SVG).
 
 #include <array>
 #include <optional>
@@ -46,5 +46,21 @@ std::string render_png(const Tree& tree, std::span<const double> params,
 // labelled colour bar. `size`: pixels along the domain's longer side (16..8192).
 std::string plot_2d_png(const Tree& tree, std::span<const double> params, int size = 600,
                         int threads = 0);
+
+struct OutlineOptions {
+  int size = 512;        // pixels along the domain's longer side (64..8192)
+  int resolution = 256;  // grid cells of the contours along the domain's longer side
+  int threads = 0;
+};
+
+// A 2D tree as an SVG figure in the style of the papers': the domain's frame, the result (the
+// whole tree's 0.5 contours, filled with the even-odd rule so that holes show) and over it each
+// leaf's own outline (the leaf alone, its 0.5 contour clipped to the domain) as a thin stroke
+// in a colour of its own, numbered in leaf order (left to right) at its highest point, with a
+// legend (index, family, name). Pixel coordinates, y down. Structure for tools: one
+// <path class="result">, one <g class="outline" data-leaf="i" data-node="node path"> a leaf
+// (an empty path when the leaf has no edge in the domain), <rect class="frame">.
+std::string outlines_svg(const Tree& tree, std::span<const double> params,
+                         const OutlineOptions& options = {});
 
 }  // namespace fuzzycsg
