@@ -24,6 +24,13 @@ std::string operator_label(const Node& n) {
   if (n.op == OpKind::kComplement)
     return label + " (" + std::string(logic::complement_name(n.complement.kind)) + ")";
   if (n.op == OpKind::kUnified) return label + (n.unified_logits ? " (logits)" : " (c)");
+  if (n.op == OpKind::kSpline) {
+    std::string cells;
+    for (std::size_t k = 0; k < n.spline_cells.size(); ++k) {
+      cells += (k ? "x" : "") + std::to_string(n.spline_cells[k]);
+    }
+    return label + " (" + cells + ", deg " + std::to_string(n.spline_degree) + ")";
+  }
   return label + " (" + std::string(logic::family_name(n.logic.family)) + ")";
 }
 

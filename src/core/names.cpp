@@ -69,12 +69,13 @@ bool complement_uses_lambda(Complement c) {
 }  // namespace logic
 
 namespace {
-constexpr std::array<std::pair<OpKind, std::string_view>, 5> kOps{{
+constexpr std::array<std::pair<OpKind, std::string_view>, 6> kOps{{
     {OpKind::kUnion, "union"},
     {OpKind::kIntersection, "intersection"},
     {OpKind::kDifference, "difference"},
     {OpKind::kComplement, "complement"},
     {OpKind::kUnified, "unified"},
+    {OpKind::kSpline, "spline"},
 }};
 }  // namespace
 

@@ -106,6 +106,29 @@ Program Program::compile(const Tree& tree) {
     return static_cast<int>(prog.tape_.size()) - 1;
   };
 
+  // Term k of a spline node: acc + B_k(p) y (acc < 0: the first term, B_k(p) y).
+  auto emit_spline_term = [&](int node_index, std::size_t k, int acc, int y) {
+    const Node& node = tree.node(node_index);
+    Instruction ins;
+    ins.code = OpCode::kSplineTerm;
+    ins.node = node_index;
+    ins.left = acc;
+    ins.right = y;
+    ins.consts = next_const;
+    ins.num_consts = static_cast<std::uint32_t>(2 * dim);
+    ins.spline_degree = node.spline_degree;
+    std::size_t rest = k;
+    for (int a = 0; a < dim; ++a) {
+      const auto cells = static_cast<std::size_t>(node.spline_cells[static_cast<std::size_t>(a)]);
+      ins.spline_cells[a] = static_cast<std::int16_t>(cells);
+      ins.spline_index[a] = static_cast<std::int16_t>(rest % cells);
+      rest /= cells;
+    }
+    next_const += ins.num_consts;
+    prog.tape_.push_back(ins);
+    return static_cast<int>(prog.tape_.size()) - 1;
+  };
+
   // Iterative post-order walk (trees can be deeper than the call stack allows).
   struct Frame {
     int node;
@@ -135,7 +158,9 @@ Program Program::compile(const Tree& tree) {
     }
     Frame& parent = stack.back();
     const Node& pnode = tree.node(parent.node);
-    if (parent.acc < 0 || pnode.op == OpKind::kComplement) {
+    if (pnode.op == OpKind::kSpline) {
+      parent.acc = emit_spline_term(parent.node, parent.next_child - 1, parent.acc, done_slot);
+    } else if (parent.acc < 0 || pnode.op == OpKind::kComplement) {
       parent.acc = done_slot;
     } else {
       parent.acc = emit_op(parent.node, parent.acc, done_slot);
@@ -229,6 +254,14 @@ void Program::prepare(std::span<const double> params, std::span<double> consts, 
       case OpCode::kComplement:
         c[0] = value_or(params, node.complement.lambda, 0.0);
         break;
+      case OpCode::kSplineTerm: {
+        const Domain box = tree_.spline_box(node);
+        for (int a = 0; a < dim; ++a) {
+          c[a] = box.min[a];
+          c[dim + a] = (ins.spline_cells[a] - ins.spline_degree) / (box.max[a] - box.min[a]);
+        }
+        break;
+      }
     }
   }
 }
@@ -301,6 +334,8 @@ void Program::pullback_instruction(const Instruction& ins, std::span<const doubl
       case OpCode::kComplement:
         sink(node.complement.lambda, g[0]);
         break;
+      case OpCode::kSplineTerm:
+        break;  // the basis depends on the point only
     }
   }
 }

@@ -75,7 +75,7 @@ std::string indexed(const std::string& path, std::size_t i) {
 bool valid_primitive(PrimitiveType t) {
   return static_cast<std::size_t>(t) < all_primitives().size();
 }
-bool valid_op(OpKind op) { return static_cast<int>(op) >= 0 && op <= OpKind::kUnified; }
+bool valid_op(OpKind op) { return static_cast<int>(op) >= 0 && op <= OpKind::kSpline; }
 bool valid_family(logic::Family f) {
   return static_cast<int>(f) >= 0 && f <= logic::Family::kLiTianHat;
 }
@@ -151,28 +151,30 @@ class Validator {
     if (tree_.dim != 2 && tree_.dim != 3) {
       fail_at("dim", "must be 2 or 3 (got " + std::to_string(tree_.dim) + ")");
     }
-    if (tree_.domain) {
-      const Domain& d = *tree_.domain;
-      for (int k = 0; k < tree_.dim; ++k) {
-        const auto a = static_cast<std::size_t>(k);
-        for (const auto& [name, v] : {std::pair{"min", d.min[a]}, std::pair{"max", d.max[a]}}) {
-          if (!std::isfinite(v)) {
-            fail_at(indexed(std::string("domain.") + name, a),
-                    "must be finite (got " + shortest_number(v) + ")");
-          }
-        }
-        if (!(d.min[a] < d.max[a])) {
-          fail_at(indexed("domain.max", a), "must be greater than domain.min[" + std::to_string(k) +
-                                                "] = " + shortest_number(d.min[a]) + " (got " +
-                                                shortest_number(d.max[a]) + ")");
-        }
-      }
-    }
+    if (tree_.domain) check_box(*tree_.domain, "domain", "domain");
     if (tree_.nodes.empty()) fail_at("", "the tree has no nodes");
     if (tree_.root < 0 || static_cast<std::size_t>(tree_.root) >= tree_.nodes.size()) {
       fail_at("root", "node index " + std::to_string(tree_.root) +
                           " is out of range (the tree has " + std::to_string(tree_.nodes.size()) +
                           " nodes)");
+    }
+  }
+
+  // A box (the domain, a spline's box): finite, min < max on every axis. `at` is the path of
+  // its fields, `label` how the message names it.
+  void check_box(const Domain& d, const std::string& at, const std::string& label) const {
+    for (int k = 0; k < tree_.dim; ++k) {
+      const auto a = static_cast<std::size_t>(k);
+      for (const auto& [name, v] : {std::pair{"min", d.min[a]}, std::pair{"max", d.max[a]}}) {
+        if (!std::isfinite(v)) {
+          fail_at(indexed(at + "." + name, a), "must be finite (got " + shortest_number(v) + ")");
+        }
+      }
+      if (!(d.min[a] < d.max[a])) {
+        fail_at(indexed(at + ".max", a),
+                "must be greater than " + label + ".min[" + std::to_string(k) + "] = " +
+                    shortest_number(d.min[a]) + " (got " + shortest_number(d.max[a]) + ")");
+      }
     }
   }
 
@@ -399,13 +401,20 @@ class Validator {
           fail(i, "", "a complement has exactly 1 child (got " + std::to_string(n) + ")");
         }
         break;
+      case OpKind::kSpline:
+        check_spline(i, node);
+        break;
+    }
+    if (node.op != OpKind::kSpline && (!node.spline_cells.empty() || node.spline_box)) {
+      fail(i, "", "cells and box apply only to spline nodes");
     }
 
     const LogicSpec& logic = node.logic;
     if (!valid_family(logic.family)) fail(i, "logic", "unknown logic family");
     const std::string family(logic::family_name(logic.family));
-    if (node.op == OpKind::kComplement && logic.family != logic::Family::kProduct) {
-      fail(i, "logic", "does not apply to complement nodes");
+    if ((node.op == OpKind::kComplement || node.op == OpKind::kSpline) &&
+        logic.family != logic::Family::kProduct) {
+      fail(i, "logic", "does not apply to " + op + " nodes");
     }
     if (node.op == OpKind::kUnified && logic.family != logic::Family::kProduct) {
       fail(i, "logic", "unified nodes use product logic (got \"" + family + "\")");
@@ -465,6 +474,38 @@ class Validator {
     } else if (!node.unified.empty() || node.temperature || node.omega || node.unified_logits) {
       fail(i, "", "c, logits, temperature and omega apply only to unified nodes");
     }
+  }
+
+  void check_spline(int i, const Node& node) const {
+    const int degree = node.spline_degree;
+    if (!fields::kSplineDegree.contains(degree)) {
+      fail(i, "degree", fields::kSplineDegree.describe() + " (got " + std::to_string(degree) + ")");
+    }
+    const auto& cells = node.spline_cells;
+    const int dim = tree_.dim;
+    if (cells.size() != static_cast<std::size_t>(dim)) {
+      fail(i, "cells",
+           "needs " + std::to_string(dim) + " entries for a " + std::to_string(dim) +
+               "D tree (got " + std::to_string(cells.size()) + ")");
+    }
+    const Range per_axis = fields::spline_cells_range(degree);
+    std::size_t product = 1;
+    std::string list;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      if (!per_axis.contains(cells[k])) {
+        fail(i, indexed("cells", k),
+             per_axis.describe() + " for degree " + std::to_string(degree) + " (got " +
+                 std::to_string(cells[k]) + ")");
+      }
+      product *= static_cast<std::size_t>(cells[k]);
+      list += (k ? ", " : "") + std::to_string(cells[k]);
+    }
+    if (node.children.size() != product) {
+      fail(i, "children",
+           "a spline with cells [" + list + "] needs " + std::to_string(product) +
+               " children (got " + std::to_string(node.children.size()) + ")");
+    }
+    if (node.spline_box) check_box(*node.spline_box, where(i, "box"), "box");
   }
 
   // Every value must be finite and within the ranges of the fields that use it.

@@ -3,8 +3,8 @@
 //
 // Hot instructions (quadric leaves with sigmoid occupancy, bilinear booleans = product logic
 // and the unified operator) are written with Highway vectors; the rest (any primitive with
-// placement, other logic families, complements) run as scalar loops over the block calling
-// the core templates.
+// placement, other logic families, complements, spline terms) run as scalar loops over the
+// block calling the core templates.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "eval/kernel.cpp"
@@ -19,6 +19,7 @@
 #include <cmath>
 
 #include "eval/kernel.hpp"
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/primitives.hpp"
 #include "fuzzycsg/core/steps.hpp"
@@ -323,6 +324,37 @@ void complement_backward(const Instruction& ins, const float* c, const float* x,
   grad[0] += acc;
 }
 
+// B_k at point i of the block for a spline term (constants: per axis the box's min, then the
+// scale of the normalised parameter).
+inline float spline_weight(const Instruction& ins, const float* c, int dim, const float* pts,
+                           std::size_t i) {
+  const int d = ins.spline_degree;
+  float w = 1.0f;
+  for (int a = 0; a < dim; ++a) {
+    const int n = ins.spline_cells[a];
+    const float u =
+        bspline::parameter<float>(pts[a * kBlock + i], c[a], c[dim + a], static_cast<float>(n - d));
+    w *= bspline::basis<float>(ins.spline_index[a], n, d, u);
+    if (w == 0.0f) break;
+  }
+  return w;
+}
+
+// out = acc + B_k y, or B_k y for the first term (acc null).
+void spline_forward(const Instruction& ins, const float* c, int dim, const float* pts,
+                    const float* acc, const float* y, float* out) {
+  for (std::size_t i = 0; i < kBlock; ++i) {
+    const float t = spline_weight(ins, c, dim, pts, i) * y[i];
+    out[i] = acc != nullptr ? acc[i] + t : t;
+  }
+}
+
+// In place on the adjoint stack: dL/dy = g B_k goes to gy; dL/dacc = g stays at g.
+void spline_backward(const Instruction& ins, const float* c, int dim, const float* pts,
+                     const float* g, float* gy) {
+  for (std::size_t i = 0; i < kBlock; ++i) gy[i] = g[i] * spline_weight(ins, c, dim, pts, i);
+}
+
 // ---- One chunk of consecutive points --------------------------------------------------------
 
 void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, double* grad,
@@ -386,6 +418,10 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
         case OpCode::kComplement:
           complement_forward(ins, c, values + ins.left * kBlock, out);
           break;
+        case OpCode::kSplineTerm:
+          spline_forward(ins, c, dim, pts, ins.left >= 0 ? values + ins.left * kBlock : nullptr,
+                         values + ins.right * kBlock, out);
+          break;
       }
     }
     const float* root = values + (tape_size - 1) * kBlock;
@@ -444,6 +480,14 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
           break;
         case OpCode::kComplement:
           complement_backward(ins, c, values + ins.left * kBlock, g, gc);
+          break;
+        case OpCode::kSplineTerm:
+          if (ins.left >= 0) {
+            spline_backward(ins, c, dim, pts, g, g + kBlock);
+            ++top;
+          } else {
+            spline_backward(ins, c, dim, pts, g, g);  // the first term: y's adjoint replaces g
+          }
           break;
       }
     }

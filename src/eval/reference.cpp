@@ -3,8 +3,10 @@
 // through Eigen), so that tests can hold the kernel against it.
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/steps.hpp"
@@ -84,14 +86,41 @@ double binary(const Ctx& cx, const Node& node, double x, double y) {
       return logic::unified(c, x, y);
     }
     case OpKind::kComplement:
+    case OpKind::kSpline:
       break;
   }
   throw Error("reference_occupancy: not a binary operator");
 }
 
+double eval(const Ctx& cx, int index);
+
+// sum_k B_k(p) L_k(p), the B_k tensor products of the axes' clamped B-splines.
+double spline(const Ctx& cx, const Node& node) {
+  const int dim = cx.tree.dim;
+  const int d = node.spline_degree;
+  const Domain box = cx.tree.spline_box(node);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < node.children.size(); ++k) {
+    double w = 1.0;
+    std::size_t rest = k;
+    for (int a = 0; a < dim; ++a) {
+      const int n = node.spline_cells[static_cast<std::size_t>(a)];
+      const auto i = static_cast<int>(rest % static_cast<std::size_t>(n));
+      rest /= static_cast<std::size_t>(n);
+      const double m = n - d;
+      const double u =
+          std::clamp((cx.point[a] - box.min[a]) / (box.max[a] - box.min[a]) * m, 0.0, m);
+      w *= bspline::basis<double>(i, n, d, u);
+    }
+    if (w != 0.0) sum += w * eval(cx, node.children[k]);
+  }
+  return sum;
+}
+
 double eval(const Ctx& cx, int index) {
   const Node& node = cx.tree.node(index);
   if (node.kind == NodeKind::kPrimitive) return leaf(cx, node);
+  if (node.op == OpKind::kSpline) return spline(cx, node);
   if (node.op == OpKind::kComplement) {
     return logic::complement(node.complement.kind, eval(cx, node.children[0]),
                              cx.get(node.complement.lambda, 0.0));

@@ -234,6 +234,8 @@ class Pruner {
         return difference(i, std::move(children[0]), std::move(children[1]));
       case OpKind::kComplement:
         return complement(node.complement, std::move(children[0]), std::string(node.name));
+      case OpKind::kSpline:
+        return spline(i, std::move(children));
       case OpKind::kUnified:
         break;  // rejected by prune() before any work
     }
@@ -336,6 +338,32 @@ class Pruner {
     Node n = node;
     n.children = {a.node, b.node};
     return Value{Value::Kind::kLive, add_node(std::move(n)), std::move(out)};
+  }
+
+  // A spline needs all its children: those pruned inside stay as pruned, and a child that became
+  // a constant keeps its original subtree (constants hold no node). The node's output is then
+  // evaluated, and it is replaced by a constant or by the child its output is closest to when
+  // that is within the threshold.
+  Value spline(int i, std::vector<Value> children) {
+    Node n = tree_.node(i);
+    for (std::size_t k = 0; k < children.size(); ++k) {
+      if (children[k].kind == Value::Kind::kLive) n.children[k] = children[k].node;
+    }
+    const int id = add_node(std::move(n));
+    const Tree one = extract(tree_, built_, id);
+    const Evaluator evaluator(one, EvalOptions{threads_});
+    std::vector<float> out(n_);
+    evaluator.forward(one.params.values(), points_, out);
+    if (const auto c = near_constant(out)) return constant(*c);
+    double best_error = std::numeric_limits<double>::infinity();
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < children.size(); ++k) {
+      if (children[k].kind != Value::Kind::kLive) continue;
+      const double e = mse(out, children[k].out);
+      if (e < best_error) best = k, best_error = e;  // ties to the first
+    }
+    if (best_error <= threshold_) return std::move(children[best]);
+    return Value{Value::Kind::kLive, id, std::move(out)};
   }
 
   // C(a); also what "full \ b" becomes, with the difference's complement. Every complement

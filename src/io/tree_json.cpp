@@ -300,7 +300,8 @@ bool is_family_field(std::string_view key) {
 }
 bool is_operator_field(std::string_view key) {
   return is_family_field(key) || key == "logic" || key == "complement" || key == "c" ||
-         key == "logits" || key == "temperature" || key == "omega";
+         key == "logits" || key == "temperature" || key == "omega" || key == "cells" ||
+         key == "degree" || key == "box";
 }
 
 class Reader {
@@ -337,7 +338,7 @@ class Reader {
     tree_.dim = static_cast<int>(*d);
 
     if (const Json* parameters = member(doc, "parameters")) read_parameters(*parameters);
-    if (const Json* domain = member(doc, "domain")) read_domain(*domain);
+    if (const Json* domain = member(doc, "domain")) tree_.domain = read_box(*domain, "domain");
     const Json* root = member(doc, "root");
     if (!root) fail("", "missing field \"root\"");
     tree_.root = read_node(*root, "root", 0);
@@ -463,19 +464,21 @@ class Reader {
     }
   }
 
-  void read_domain(const Json& v) {
+  // {"min": [dim numbers], "max": [dim numbers]}: the domain, a spline's box (plain numbers,
+  // not parameters; validate() checks min < max).
+  Domain read_box(const Json& v, const std::string& at) {
     if (!v.is_object()) {
-      fail("domain", "expected {\"min\": [...], \"max\": [...]} (got " + describe(v) + ")");
+      fail(at, "expected {\"min\": [...], \"max\": [...]} (got " + describe(v) + ")");
     }
     for (const auto& [key, value] : v.items()) {
-      if (key != "min" && key != "max") fail("domain", "unknown field " + quote(key));
+      if (key != "min" && key != "max") fail(at, "unknown field " + quote(key));
     }
     Domain domain;
     const auto n = static_cast<std::size_t>(tree_.dim);
     for (const auto& [key, out] : {std::pair{"min", &domain.min}, std::pair{"max", &domain.max}}) {
-      const std::string path = std::string("domain.") + key;
+      const std::string path = at + "." + key;
       const Json* a = member(v, key);
-      if (!a) fail("domain", std::string("missing field \"") + key + "\"");
+      if (!a) fail(at, std::string("missing field \"") + key + "\"");
       if (!a->is_array()) {
         fail(path,
              "expected an array of " + std::to_string(n) + " numbers (got " + describe(*a) + ")");
@@ -492,7 +495,7 @@ class Reader {
         (*out)[k] = x.get<double>();
       }
     }
-    tree_.domain = domain;
+    return domain;
   }
 
   // ---- nodes
@@ -710,11 +713,12 @@ class Reader {
     const std::string op_text(op_name(*kind));
     const bool unified = *kind == OpKind::kUnified;
     const bool complement = *kind == OpKind::kComplement;
+    const bool spline = *kind == OpKind::kSpline;
     const bool has_complement = complement || *kind == OpKind::kDifference;
 
     logic::Family family = logic::Family::kProduct;
     const Json* logic = member(v, "logic");
-    if (logic && !complement) {
+    if (logic && !complement && !spline) {
       const std::string p = field_path(path, "logic");
       if (!logic->is_string()) {
         fail(p, "expected a logic family name (got " + describe(*logic) + ")");
@@ -731,8 +735,9 @@ class Reader {
 
     for (const auto& [key, value] : v.items()) {
       bool known = key == "op" || key == "name" || key == "children";
-      if (!complement) known = known || key == "logic";
-      if (!complement && !unified) {
+      if (!complement && !spline) known = known || key == "logic";
+      if (spline) known = known || key == "cells" || key == "degree" || key == "box";
+      if (!complement && !unified && !spline) {
         known =
             known || (!p_field.empty() && key == p_field) || (logic::uses_n(family) && key == "n");
       }
@@ -741,7 +746,7 @@ class Reader {
         known = known || key == "c" || key == "logits" || key == "temperature" || key == "omega";
       }
       if (known) continue;
-      if (is_family_field(key) && !complement && !unified) {
+      if (is_family_field(key) && !complement && !unified && !spline) {
         fail(path, "field " + quote(key) + " does not apply to logic " +
                        quote(logic::family_name(family)));
       }
@@ -752,7 +757,7 @@ class Reader {
     }
     read_name(v, path, node);
 
-    if (!complement && !unified) {
+    if (!complement && !unified && !spline) {
       if (logic::uses_p(family)) {
         node.logic.p = read_or_default(v, path, fields::logic_param(family));
       }
@@ -764,6 +769,7 @@ class Reader {
     }
     if (has_complement) read_complement(member(v, "complement"), path, node.complement);
     if (unified) read_unified(v, path, node);
+    if (spline) read_spline(v, path, node);
 
     const Json* children = member(v, "children");
     if (!children) fail(path, "missing field \"children\"");
@@ -826,6 +832,35 @@ class Reader {
     node.unified = read_numbers(*logits, field_path(path, "logits"), fields::kUnifiedLogits, 4);
     node.temperature = read_or_default(v, path, fields::kTemperature);
     node.omega = read_or_default(v, path, fields::kOmega);
+  }
+
+  void read_spline(const Json& v, const std::string& path, Node& node) {
+    node.spline_degree = bspline::kDefaultDegree;
+    if (const Json* degree = member(v, "degree")) {
+      node.spline_degree = read_int(*degree, field_path(path, "degree"), fields::kSplineDegree);
+    }
+    const Json* cells = member(v, "cells");
+    if (!cells) fail(path, "missing field \"cells\"");
+    const std::string cells_path = field_path(path, "cells");
+    if (!cells->is_array()) {
+      fail(cells_path, "expected an array of " + std::to_string(tree_.dim) + " integers (got " +
+                           describe(*cells) + ")");
+    }
+    const Range range = fields::spline_cells_range(node.spline_degree);
+    for (std::size_t k = 0; k < cells->size(); ++k) {
+      const Json& c = (*cells)[k];
+      const auto n = integer_of(c);
+      if (!n) fail(indexed(cells_path, k), "expected an integer (got " + describe(c) + ")");
+      if (!range.contains(static_cast<double>(*n))) {
+        fail(indexed(cells_path, k), range.describe() + " for degree " +
+                                         std::to_string(node.spline_degree) + " (got " +
+                                         describe(c) + ")");
+      }
+      node.spline_cells.push_back(static_cast<int>(*n));
+    }
+    if (const Json* box = member(v, "box")) {
+      node.spline_box = read_box(*box, field_path(path, "box"));
+    }
   }
 
   std::string_view source_;
@@ -1027,7 +1062,8 @@ class Writer {
   void write_operator(const Node& node) {
     field("op", json_string(op_name(node.op)));
     const logic::Family family = node.logic.family;
-    const bool binary = node.op != OpKind::kComplement && node.op != OpKind::kUnified;
+    const bool binary =
+        node.op != OpKind::kComplement && node.op != OpKind::kUnified && node.op != OpKind::kSpline;
     if (binary) {
       if (family != logic::Family::kProduct) {
         field("logic", json_string(logic::family_name(family)));
@@ -1051,6 +1087,24 @@ class Writer {
         field("omega", entry(*node.omega, fields::kOmega.default_fixed));
       } else {
         field("c", entries(node.unified));
+      }
+    }
+    if (node.op == OpKind::kSpline) {
+      std::string cells = "[";
+      for (std::size_t k = 0; k < node.spline_cells.size(); ++k) {
+        cells += (k ? ", " : "") + std::to_string(node.spline_cells[k]);
+      }
+      field("cells", cells + "]");
+      field("degree", std::to_string(node.spline_degree));
+      if (node.spline_box) {
+        const auto n = static_cast<std::size_t>(tree_.dim);
+        printer_.key("box");
+        printer_.begin_object();
+        printer_.key("min");
+        printer_.raw(plain_list(std::span(node.spline_box->min).first(n)));
+        printer_.key("max");
+        printer_.raw(plain_list(std::span(node.spline_box->max).first(n)));
+        printer_.end_object();
       }
     }
     printer_.key("children");

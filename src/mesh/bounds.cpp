@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/placement.hpp"
@@ -44,6 +45,10 @@ struct Item {
   logic::Complement complement = logic::Complement::kStandard;
   double lambda = 0.0;
   std::array<double, 4> weights{};  // B_c's c
+  // spline
+  std::vector<int> cells;
+  int degree = 0;
+  std::array<double, 3> box_lo{}, box_scale{};
 };
 
 }  // namespace
@@ -133,6 +138,74 @@ struct BoundsProgram::Impl {
     return {s * (f - lin + qlo), s * (f + lin + qhi)};
   }
 
+  // F = sum_k B_k L_k with sum_k B_k = 1 at every point. Over the box each weight lies in
+  // [w_lo, w_hi] (products of the axes' basis ranges; 0 for the children whose basis vanishes
+  // there) and each L_k in its bounds, so F lies within the extremes of sum_k w_k L_k over
+  // weights in those ranges summing to 1: a fractional knapsack, solved greedily (the weight
+  // beyond the w_lo goes to the children with the largest hi for the upper bound, the smallest
+  // lo for the lower). This is never wider than the hull of the children's bounds.
+  Interval spline(const Item& it, const double* lo, const double* hi,
+                  const std::vector<Interval>& v) const {
+    // Per axis, the range of each basis function over the box.
+    std::array<std::vector<std::array<double, 2>>, 3> ranges;
+    for (std::size_t axis = 0; axis < static_cast<std::size_t>(dim); ++axis) {
+      const int n = it.cells[axis];
+      double a = 0.0, b = 0.0;
+      bspline::parameter_interval(lo[axis], hi[axis], it.box_lo[axis], it.box_scale[axis],
+                                  n - it.degree, a, b);
+      ranges[axis].resize(static_cast<std::size_t>(n));
+      for (int i = 0; i < n; ++i) {
+        auto& r = ranges[axis][static_cast<std::size_t>(i)];
+        bspline::basis_range(i, n, it.degree, a, b, r[0], r[1]);
+      }
+    }
+    struct Term {
+      double w_lo, w_hi;
+      Interval value;
+    };
+    std::vector<Term> terms;
+    double base = 0.0;  // sum of the w_lo
+    for (std::size_t k = 0; k < it.children.size(); ++k) {
+      double w_lo = 1.0, w_hi = 1.0;
+      std::size_t rest = k;
+      for (std::size_t axis = 0; axis < static_cast<std::size_t>(dim); ++axis) {
+        const auto n = static_cast<std::size_t>(it.cells[axis]);
+        const auto& r = ranges[axis][rest % n];
+        rest /= n;
+        w_lo *= r[0];
+        w_hi *= r[1];
+      }
+      if (w_hi <= 0.0) continue;
+      terms.push_back({w_lo, w_hi, v[static_cast<std::size_t>(it.children[k])]});
+      base += w_lo;
+    }
+    if (terms.empty()) return {0.0, 1.0};
+    Interval hull{kInf, -kInf};
+    for (const Term& t : terms) {
+      hull.lo = std::min(hull.lo, t.value.lo);
+      hull.hi = std::max(hull.hi, t.value.hi);
+    }
+    const double spare = 1.0 - base;
+    // Rounding could leave the ranges inconsistent with sum 1: then the hull.
+    if (!(spare >= -1e-12)) return hull;
+    const auto extreme = [&](bool upper) {
+      std::sort(terms.begin(), terms.end(), [&](const Term& x, const Term& y) {
+        return upper ? x.value.hi > y.value.hi : x.value.lo < y.value.lo;
+      });
+      double sum = 0.0, left = std::max(spare, 0.0);
+      for (const Term& t : terms) {
+        const double value = upper ? t.value.hi : t.value.lo;
+        const double extra = std::min(left, t.w_hi - t.w_lo);
+        sum += (t.w_lo + extra) * value;
+        left -= extra;
+      }
+      // Weight the ranges could not place (only by rounding) goes to the extreme child.
+      return sum + left * (upper ? hull.hi : hull.lo);
+    };
+    const Interval r{extreme(false), extreme(true)};
+    return {std::max(r.lo, hull.lo), std::min(r.hi, hull.hi)};
+  }
+
   Interval binary(const Item& it, Interval x, Interval y) const {
     // Li & Tian's hat-AND is not monotone (its corner term bends it): no bound but [0, 1].
     if (it.family == logic::Family::kLiTianHat && it.op != OpKind::kUnified) return {0.0, 1.0};
@@ -163,6 +236,7 @@ struct BoundsProgram::Impl {
         return r;
       }
       case OpKind::kComplement:
+      case OpKind::kSpline:
         break;
     }
     throw Error("BoundsProgram: not a binary operator");
@@ -232,6 +306,15 @@ BoundsProgram::BoundsProgram(const Tree& tree, std::span<const double> params)
       it.n = node.logic.n;
       it.complement = node.complement.kind;
       it.lambda = get_or(node.complement.lambda, 0.0);
+      if (node.op == OpKind::kSpline) {
+        it.cells = node.spline_cells;
+        it.degree = node.spline_degree;
+        const Domain box = tree.spline_box(node);
+        for (std::size_t a = 0; a < static_cast<std::size_t>(tree.dim); ++a) {
+          it.box_lo[a] = box.min[a];
+          it.box_scale[a] = (node.spline_cells[a] - node.spline_degree) / (box.max[a] - box.min[a]);
+        }
+      }
       if (node.op == OpKind::kUnified) {
         std::array<double, 4> v{};
         for (int i = 0; i < 4; ++i) v[i] = get(node.unified[static_cast<std::size_t>(i)]);
@@ -277,6 +360,8 @@ Interval BoundsProgram::bound(const double* lo, const double* hi,
       const Interval x = v[static_cast<std::size_t>(it.children[0])];
       r = {logic::complement(it.complement, x.hi, it.lambda),
            logic::complement(it.complement, x.lo, it.lambda)};
+    } else if (it.op == OpKind::kSpline) {
+      r = m.spline(it, lo, hi, v);
     } else {
       r = v[static_cast<std::size_t>(it.children[0])];
       for (std::size_t i = 1; i < it.children.size(); ++i) {

@@ -187,7 +187,8 @@ class Extractor {
     std::vector<Interval> per_node;
     bounds_.bound(lo.data(), hi.data(), &per_node);
     const mesh_detail::Reduced r = reducer_.reduce(
-        per_node, kTau, static_cast<int>(kSimplifyShare * static_cast<double>(leaves_)));
+        per_node, kTau, static_cast<int>(kSimplifyShare * static_cast<double>(leaves_)), lo.data(),
+        hi.data());
     if (r.tree.root < 0) return false;
     const std::vector<float> points = brick_points(box);
     values.resize(point_count(box));

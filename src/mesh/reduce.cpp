@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/logic.hpp"
 
 namespace fuzzycsg::mesh_detail {
@@ -57,8 +58,9 @@ namespace {
 
 class Builder {
  public:
-  Builder(const Reducer::Impl& m, const std::vector<Interval>& bounds, double tau, bool build)
-      : m_(m), bounds_(bounds), tau_(tau), build_(build) {
+  Builder(const Reducer::Impl& m, const std::vector<Interval>& bounds, double tau, bool build,
+          const double* lo, const double* hi)
+      : m_(m), bounds_(bounds), tau_(tau), build_(build), lo_(lo), hi_(hi) {
     out_.tree.dim = m.tree.dim;
     out_.tree.domain = m.tree.domain;
   }
@@ -97,6 +99,9 @@ class Builder {
     const double clamped = std::clamp(c, 1e-7, 1.0 - 1e-7);
     out_.error += sens * std::abs(clamped - c);
     ++out_.leaves;
+    return constant_leaf(clamped);
+  }
+  int constant_leaf(double clamped) {
     Node n;
     n.kind = NodeKind::kPrimitive;
     n.shape.type = m_.tree.dim == 3 ? PrimitiveType::kQuadric3 : PrimitiveType::kQuadric2;
@@ -115,6 +120,7 @@ class Builder {
       return constant(middle(index), sens);
     }
     const Node& node = m_.tree.node(index);
+    if (node.kind == NodeKind::kOperator && node.op == OpKind::kSpline) return spline(node, sens);
     if (node.kind == NodeKind::kPrimitive) {
       ++out_.leaves;
       if (!build_) return 0;
@@ -201,6 +207,59 @@ class Builder {
     return push(std::move(n));
   }
 
+  // A spline weighs each child by B_k in [0, 1]: the root's sensitivity to the child is at
+  // most the node's times the largest B_k over the box (bspline::basis_range; 1 without a
+  // box). The children whose basis function vanishes on the box have weight 0 there: each is
+  // replaced by a placeholder constant, which changes nothing and is not counted as a leaf (the
+  // node needs all its children; its term then costs a test of the support per point). A
+  // single child left has weight 1 throughout and replaces the node.
+  int spline(const Node& node, double sens) {
+    const std::size_t count = node.children.size();
+    std::vector<double> weight(count, 1.0);  // upper bounds of B_k over the box
+    if (lo_ != nullptr && hi_ != nullptr) {
+      const auto dim = static_cast<std::size_t>(m_.tree.dim);
+      const Domain box = m_.tree.spline_box(node);
+      std::array<std::vector<double>, 3> most;  // per axis and basis function
+      for (std::size_t axis = 0; axis < dim; ++axis) {
+        const int n = node.spline_cells[axis];
+        const double m = n - node.spline_degree;
+        double a = 0.0, b = 0.0;
+        bspline::parameter_interval(lo_[axis], hi_[axis], box.min[axis],
+                                    m / (box.max[axis] - box.min[axis]), m, a, b);
+        for (int i = 0; i < n; ++i) {
+          double least = 0.0, largest = 0.0;
+          bspline::basis_range(i, n, node.spline_degree, a, b, least, largest);
+          most[axis].push_back(largest);
+        }
+      }
+      for (std::size_t k = 0; k < count; ++k) {
+        std::size_t rest = k;
+        for (std::size_t axis = 0; axis < dim; ++axis) {
+          const auto n = static_cast<std::size_t>(node.spline_cells[axis]);
+          weight[k] *= most[axis][rest % n];
+          rest /= n;
+        }
+      }
+    }
+    const auto alive = static_cast<std::size_t>(
+        std::count_if(weight.begin(), weight.end(), [](double w) { return w > 0.0; }));
+    if (alive == 1) {
+      const auto k = static_cast<std::size_t>(
+          std::find_if(weight.begin(), weight.end(), [](double w) { return w > 0.0; }) -
+          weight.begin());
+      return copy(node.children[k], sens);
+    }
+    std::vector<int> children;
+    for (std::size_t k = 0; k < count; ++k) {
+      children.push_back(weight[k] > 0.0 ? copy(node.children[k], sens * weight[k])
+                                         : constant_leaf(0.5));
+    }
+    if (!build_) return 0;
+    Node n = node;
+    n.children = std::move(children);
+    return push(std::move(n));
+  }
+
   std::vector<int> drop_neutral(const Node& node, double sens) {
     std::vector<int> kept;
     for (int c : node.children) {
@@ -217,7 +276,9 @@ class Builder {
   const Reducer::Impl& m_;
   const std::vector<Interval>& bounds_;
   double tau_;
-  bool build_;  // false: only count the leaves and the error
+  bool build_;        // false: only count the leaves and the error
+  const double* lo_;  // the box, or null (unknown)
+  const double* hi_;
   Reduced out_;
 };
 
@@ -227,14 +288,15 @@ Reducer::Reducer(const Tree& tree, std::span<const double> params)
     : impl_(std::make_unique<Impl>(tree, params)) {}
 Reducer::~Reducer() = default;
 
-Reduced Reducer::reduce(const std::vector<Interval>& bounds, double tau, int max_leaves) const {
-  Reduced count = Builder(*impl_, bounds, tau, false).run();
+Reduced Reducer::reduce(const std::vector<Interval>& bounds, double tau, int max_leaves,
+                        const double* lo, const double* hi) const {
+  Reduced count = Builder(*impl_, bounds, tau, false, lo, hi).run();
   if (count.leaves > max_leaves) {
     count.tree = Tree{};
     count.tree.root = -1;
     return count;
   }
-  return Builder(*impl_, bounds, tau, true).run();
+  return Builder(*impl_, bounds, tau, true, lo, hi).run();
 }
 
 bool reducible(const Tree& tree) {

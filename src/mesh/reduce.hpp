@@ -10,8 +10,8 @@
 // The bound on the error adds the error of each replacement times the root's sensitivity to
 // it, which holds when every operator is Lipschitz in each argument with the constants used:
 // product-logic and Gödel booleans with the standard complement, Łukasiewicz, the unified operator
-// (barycentric weights), standard complements. For other trees reducible() is false and meshing
-// evaluates the whole tree.
+// (barycentric weights), standard complements, spline nodes (a convex combination). For other
+// trees reducible() is false and meshing evaluates the whole tree.
 
 #include <memory>
 #include <optional>
@@ -40,8 +40,10 @@ class Reducer {
   ~Reducer();
   // `bounds` are the per-node bounds over the box (BoundsProgram::bound's per_node). When the
   // simplified tree would have more than `max_leaves` leaves it is not built: `tree.root` is
-  // -1 and `leaves` says how many it would have.
-  Reduced reduce(const std::vector<Interval>& bounds, double tau, int max_leaves) const;
+  // -1 and `leaves` says how many it would have. `lo`, `hi` (optional) are the box: a spline
+  // node then drops the children whose basis function vanishes on it.
+  Reduced reduce(const std::vector<Interval>& bounds, double tau, int max_leaves,
+                 const double* lo = nullptr, const double* hi = nullptr) const;
 
   struct Impl;
 

@@ -284,6 +284,14 @@ for ex in "$src"/examples/*.json; do
     bad "example $ex"
   fi
 done
+# A spline node: info names it with its grid, and its contours are written.
+if "$bin" info "$src/examples/spline_shape.json" | grep -qF "spline (6x6, deg 2)" &&
+    "$bin" mesh "$src/examples/spline_shape.json" -o "$tmp/spline.svg" >/dev/null &&
+    grep -q "<path\|<polyline\|<polygon" "$tmp/spline.svg"; then
+  ok
+else
+  bad "spline example: info or mesh"
+fi
 
 # mesh: a closed mesh in each format, contours of a 2D tree, and its errors.
 for ext in obj stl ply; do

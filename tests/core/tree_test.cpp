@@ -224,6 +224,80 @@ TEST(Tree, ChildrenCounts) {
   EXPECT_EQ(error_of(one.tree), "t: nodes[0]: is not reachable from the root");
 }
 
+TEST(Tree, SplineChecks) {
+  TreeBuilder b(2);
+  std::vector<int> leaves;
+  for (int k = 0; k < 6; ++k) leaves.push_back(b.leaf(PrimitiveType::kCircle, {0.5}));
+  b.tree.root = b.op(OpKind::kSpline, leaves);
+  Node& root = b.node(b.tree.root);
+  root.spline_cells = {3, 2};
+  root.spline_degree = 1;
+  EXPECT_EQ(error_of(b.tree), "no error");
+  root.spline_box = Domain{{-1, -0.5, 0}, {1, 0.5, 0}};  // the third axis is not used in 2D
+  EXPECT_EQ(error_of(b.tree), "no error");
+
+  root.spline_degree = 2;
+  EXPECT_EQ(error_of(b.tree), "t: root.cells[1]: must be in [3, 256] for degree 2 (got 2)");
+  root.spline_degree = 0;
+  EXPECT_EQ(error_of(b.tree), "t: root.degree: must be in [1, 5] (got 0)");
+  root.spline_degree = 6;
+  EXPECT_EQ(error_of(b.tree), "t: root.degree: must be in [1, 5] (got 6)");
+  root.spline_degree = 1;
+  root.spline_cells = {3, 2, 1};
+  EXPECT_EQ(error_of(b.tree), "t: root.cells: needs 2 entries for a 2D tree (got 3)");
+  root.spline_cells = {};
+  EXPECT_EQ(error_of(b.tree), "t: root.cells: needs 2 entries for a 2D tree (got 0)");
+  root.spline_cells = {257, 2};
+  EXPECT_EQ(error_of(b.tree), "t: root.cells[0]: must be in [2, 256] for degree 1 (got 257)");
+  root.spline_cells = {3, 3};
+  EXPECT_EQ(error_of(b.tree),
+            "t: root.children: a spline with cells [3, 3] needs 9 children (got 6)");
+
+  TreeBuilder five(2);
+  std::vector<int> circles;
+  for (int k = 0; k < 5; ++k) circles.push_back(five.leaf(PrimitiveType::kCircle, {0.5}));
+  five.tree.root = five.op(OpKind::kSpline, circles);
+  Node& r5 = five.node(five.tree.root);
+  r5.spline_degree = 1;
+  r5.spline_cells = {3, 2};
+  EXPECT_EQ(error_of(five.tree),
+            "t: root.children: a spline with cells [3, 2] needs 6 children (got 5)");
+  r5.spline_cells = {5, 1};
+  EXPECT_EQ(error_of(five.tree), "t: root.cells[1]: must be in [2, 256] for degree 1 (got 1)");
+  r5.spline_cells = {5, 2};
+  EXPECT_EQ(error_of(five.tree),
+            "t: root.children: a spline with cells [5, 2] needs 10 children (got 5)");
+
+  TreeBuilder c(3);
+  std::vector<int> spheres;
+  for (int k = 0; k < 8; ++k) spheres.push_back(c.sphere(0.5));
+  c.tree.root = c.op(OpKind::kSpline, spheres);
+  Node& r3 = c.node(c.tree.root);
+  r3.spline_cells = {2, 2, 2};
+  r3.spline_degree = 1;
+  EXPECT_EQ(error_of(c.tree), "no error");
+  r3.spline_box = Domain{{-1, -1, -1}, {1, 1, -1}};
+  EXPECT_EQ(error_of(c.tree), "t: root.box.max[2]: must be greater than box.min[2] = -1 (got -1)");
+  r3.spline_box = Domain{{-1, std::numeric_limits<double>::infinity(), -1}, {1, 1, 1}};
+  EXPECT_EQ(error_of(c.tree), "t: root.box.min[1]: must be finite (got inf)");
+  r3.spline_box.reset();
+  r3.logic.family = logic::Family::kGodel;
+  EXPECT_EQ(error_of(c.tree), "t: root.logic: does not apply to spline nodes");
+  r3.logic.family = logic::Family::kProduct;
+  r3.complement.kind = logic::Complement::kCosine;
+  EXPECT_EQ(error_of(c.tree),
+            "t: root.complement: applies only to complement and difference nodes");
+  r3.complement.kind = logic::Complement::kStandard;
+  EXPECT_EQ(error_of(c.tree), "no error");
+  // Spline fields on another operator.
+  r3.op = OpKind::kUnion;
+  EXPECT_EQ(error_of(c.tree), "t: root: cells and box apply only to spline nodes");
+  r3.spline_cells.clear();
+  EXPECT_EQ(error_of(c.tree), "no error");
+  r3.spline_box = Domain{};
+  EXPECT_EQ(error_of(c.tree), "t: root: cells and box apply only to spline nodes");
+}
+
 TEST(Tree, LeafChecks) {
   const auto check = [](int dim, PrimitiveType type, std::vector<double> values,
                         const std::string& expected) {

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -358,6 +360,208 @@ TEST(Evaluator, ExamplesMatchReference) {
     ++seen;
   }
   EXPECT_GE(seen, 5);
+}
+
+}  // namespace
+}  // namespace fuzzycsg
+
+namespace fuzzycsg {
+namespace {
+
+// ---- The fuzzy spline node
+
+// A spline tree of random leaves: `cells` per axis of degree `degree` over a box smaller than the
+// domain (so that a good share of the points in [-1, 1] lie outside it and are clamped), leaves
+// of several families with placement, and in 3D one child that is itself a union.
+std::string spline_tree_text(int dim, std::vector<int> cells, int degree, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-0.6, 0.6), r(0.15, 0.6), s(4.0, 12.0);
+  const auto num = [](double v) { return std::to_string(v); };
+  int total = 1;
+  std::string cells_text;
+  for (std::size_t a = 0; a < cells.size(); ++a) {
+    total *= cells[a];
+    cells_text += (a ? ", " : "") + std::to_string(cells[a]);
+  }
+  std::string children;
+  for (int k = 0; k < total; ++k) {
+    std::string t =
+        "[" + num(u(rng)) + ", " + num(u(rng)) + (dim == 3 ? ", " + num(u(rng)) : "") + "]";
+    std::string leaf;
+    if (dim == 2) {
+      leaf = k % 3 == 0 ? R"({"type": "rectangle", "size": [)" + num(r(rng)) + ", " + num(r(rng)) +
+                              R"(], "rotate": )" + num(60 * u(rng)) + ", "
+             : k % 3 == 1
+                 ? R"({"type": "ellipse", "radii": [)" + num(r(rng)) + ", " + num(r(rng)) + "], "
+                 : R"({"type": "circle", "radius": )" + num(r(rng)) + ", ";
+    } else {
+      leaf = k % 3 == 0 ? R"({"type": "box", "size": [)" + num(r(rng)) + ", " + num(r(rng)) + ", " +
+                              num(r(rng)) + "], "
+             : k % 3 == 1
+                 ? R"({"type": "quadric", "coefficients": [1, 2, 1.5, 0.1, 0, 0.2, 0, 0.1, 0, )" +
+                       num(-r(rng)) + "], "
+                 : R"({"type": "sphere", "radius": )" + num(r(rng)) + ", ";
+    }
+    leaf += R"("translate": )" + t + R"(, "sharpness": )" + num(s(rng)) + "}";
+    if (dim == 3 && k == 1) {
+      leaf = R"({"op": "union", "children": [)" + leaf +
+             R"(, {"type": "sphere", "radius": 0.3, "sharpness": 6}]})";
+    }
+    children += (k ? ",\n" : "") + leaf;
+  }
+  const std::string box = dim == 2 ? R"({"min": [-0.7, -0.5], "max": [0.6, 0.8]})"
+                                   : R"({"min": [-0.7, -0.5, -0.6], "max": [0.6, 0.8, 0.5]})";
+  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": )" + std::to_string(dim) +
+         R"(, "root": {"op": "spline", "cells": [)" + cells_text + R"(], "degree": )" +
+         std::to_string(degree) + R"(, "box": )" + box + R"(, "children": [)" + children + "]}}";
+}
+
+// Forward values against the reference and gradients with respect to every child parameter
+// against central differences, for degrees 1..3 in 2D and 3D.
+TEST(Spline, KernelMatchesReferenceAndGradients) {
+  for (int degree = 1; degree <= 3; ++degree) {
+    SCOPED_TRACE("degree " + std::to_string(degree));
+    check_tree(io::read_tree_string(spline_tree_text(2, {degree + 1, degree + 3}, degree, degree),
+                                    "spline 2D"),
+               150, 51);
+    check_tree(io::read_tree_string(
+                   spline_tree_text(3, {degree + 1, 2 + degree, degree + 1}, degree, 10 + degree),
+                   "spline 3D"),
+               130, 52, degree == 3 ? 3 : 1);
+  }
+}
+
+// A spline inside a union and below a complement, and a unified node among its children: the
+// adjoint stack and the fold of a spline's terms within other nodes.
+TEST(Spline, NestedInOtherOperators) {
+  const Tree tree = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+    "root": {"op": "union", "logic": "yager", "p": 2, "children": [
+      {"type": "circle", "radius": 0.3, "translate": [0.5, 0.5], "sharpness": 8},
+      {"op": "complement", "children": [
+        {"op": "spline", "cells": [2, 3], "degree": 1, "children": [
+          {"type": "circle", "radius": 0.4, "sharpness": 7},
+          {"op": "unified", "logits": [0.1, 0.3, -0.2, 0.05], "temperature": 3, "children": [
+            {"type": "circle", "radius": 0.5, "translate": [0.2, 0], "sharpness": 6},
+            {"type": "rectangle", "size": [0.6, 0.3], "sharpness": 9}]},
+          {"type": "ellipse", "radii": [0.5, 0.3], "sharpness": 5},
+          {"op": "spline", "cells": [3, 3], "degree": 2, "box": {"min": [-0.5, -0.5], "max": [0.5, 0.5]},
+           "children": [
+            {"type": "circle", "radius": 0.1, "sharpness": 10}, {"type": "circle", "radius": 0.2, "sharpness": 10},
+            {"type": "circle", "radius": 0.3, "sharpness": 10}, {"type": "circle", "radius": 0.4, "sharpness": 10},
+            {"type": "circle", "radius": 0.5, "sharpness": 10}, {"type": "circle", "radius": 0.6, "sharpness": 10},
+            {"type": "circle", "radius": 0.7, "sharpness": 10}, {"type": "circle", "radius": 0.8, "sharpness": 10},
+            {"type": "circle", "radius": 0.9, "sharpness": 10}]},
+          {"type": "half-plane", "normal": [1, 1], "offset": 0.1, "sharpness": 4},
+          {"type": "quadric", "coefficients": [1, 1, 0, 0, 0, -0.3]}]}]},
+      {"type": "rectangle", "size": [0.3, 0.3], "translate": [-0.6, 0.6], "sharpness": 8}]}})",
+                                         "nested");
+  check_tree(tree, 200, 53);
+  // One term per child: a spline of k children takes k instructions, the first without acc.
+  const Program prog = Program::compile(tree);
+  int terms = 0, first_terms = 0;
+  for (const Instruction& ins : prog.tape()) {
+    if (ins.code != OpCode::kSplineTerm) continue;
+    ++terms;
+    first_terms += ins.left < 0 ? 1 : 0;
+    EXPECT_GE(ins.right, 0);
+  }
+  EXPECT_EQ(terms, 6 + 9);
+  EXPECT_EQ(first_terms, 2);
+}
+
+// By hand: cells [3, 2], degree 1 over the box [0, 2] x [0, 1]: hats along x at 0, 1, 2 and
+// the linear pair (1 - y, y) along y; the children are circles at different centres.
+TEST(Spline, HandComputedBilinearBlend) {
+  const double cx[6] = {0.0, 1.0, 2.0, 0.0, 1.0, 2.0}, cy[6] = {0.0, 0.0, 0.0, 1.0, 1.0, 1.0};
+  const double radius[6] = {0.3, 0.5, 0.4, 0.6, 0.2, 0.7};
+  std::string children;
+  for (int k = 0; k < 6; ++k) {
+    children += (k ? ", " : "") + std::string(R"({"type": "circle", "radius": )") +
+                std::to_string(radius[k]) + R"(, "translate": [)" + std::to_string(cx[k]) + ", " +
+                std::to_string(cy[k]) + R"(], "sharpness": 5})";
+  }
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "domain": {"min": [-1, -1], "max": [3, 2]},
+          "root": {"op": "spline", "cells": [3, 2], "degree": 1,
+                   "box": {"min": [0, 0], "max": [2, 1]}, "children": [)" +
+          children + "]}}",
+      "hand");
+  const auto hand = [&](double x, double y) {
+    const double xc = std::clamp(x, 0.0, 2.0), yc = std::clamp(y, 0.0, 1.0);
+    const double nx[3] = {std::max(0.0, 1 - xc), std::max(0.0, 1 - std::abs(xc - 1)),
+                          std::max(0.0, xc - 1)};
+    const double ny[2] = {1 - yc, yc};
+    double f = 0.0;
+    for (int k = 0; k < 6; ++k) {
+      const double d = std::hypot(x - cx[k], y - cy[k]) - radius[k];
+      f += nx[k % 3] * ny[k / 3] / (1.0 + std::exp(5.0 * d));
+    }
+    return f;
+  };
+  const std::vector<std::array<float, 2>> at = {{0.25f, 0.5f}, {1.0f, 0.0f}, {1.7f, 0.9f},
+                                                {0.0f, 0.0f},  {2.0f, 1.0f}, {-0.8f, 0.3f},
+                                                {2.6f, -0.7f}, {0.5f, 1.8f}};
+  std::vector<float> points;
+  for (const auto& p : at) points.insert(points.end(), p.begin(), p.end());
+  std::vector<float> occ(at.size());
+  const Evaluator ev(tree);
+  ev.forward(tree.params.values(), points, occ);
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const double p[2] = {at[i][0], at[i][1]};
+    EXPECT_NEAR(reference_occupancy(tree, tree.params.values(), p), hand(p[0], p[1]), 1e-14) << i;
+    EXPECT_NEAR(occ[i], hand(p[0], p[1]), 2e-6) << i;
+  }
+}
+
+// A spline of identical children is that child (the weights sum to 1), in the kernel too.
+TEST(Spline, IdenticalChildrenGiveTheChild) {
+  std::string children;
+  for (int k = 0; k < 16; ++k) {
+    children +=
+        (k ? ", " : "") +
+        std::string(
+            R"({"type": "circle", "radius": 0.45, "translate": [0.1, -0.2], "sharpness": 9})");
+  }
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"op": "spline", "cells": [4, 4],
+          "degree": 3, "box": {"min": [-0.5, -0.4], "max": [0.3, 0.9]}, "children": [)" +
+          children + "]}}",
+      "same");
+  const Tree one = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+          "root": {"type": "circle", "radius": 0.45, "translate": [0.1, -0.2], "sharpness": 9}})",
+      "one");
+  const auto points = random_points(1000, 2, 54);
+  std::vector<float> a(1000), b(1000);
+  Evaluator(tree).forward(tree.params.values(), points, a);
+  Evaluator(one).forward(one.params.values(), points, b);
+  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_NEAR(a[i], b[i], 1e-6) << i;
+}
+
+// Gradient descent on the children's parameters through the spline: a few steps of plain
+// gradient descent on the MSE to another spline's occupancy lower the loss.
+TEST(Spline, TrainsThroughTheNode) {
+  const Tree tree = io::read_tree_string(spline_tree_text(2, {3, 3}, 2, 61), "model");
+  const Tree target = io::read_tree_string(spline_tree_text(2, {3, 3}, 2, 62), "target");
+  const auto points = random_points(4000, 2, 63);
+  std::vector<float> targets(4000);
+  Evaluator(target).forward(target.params.values(), points, targets);
+  const Evaluator ev(tree);
+  std::vector<double> params = tree.params.values(), grad(params.size());
+  const Loss loss{Loss::Kind::kMse, targets, {}};
+  const double start = ev.backward(params, points, loss, grad);
+  double last = start;
+  for (int step = 0; step < 20; ++step) {
+    last = ev.backward(params, points, loss, grad);
+    for (std::size_t k = 0; k < params.size(); ++k) {
+      const Parameter& p = tree.params.at(k);
+      params[k] -= 0.5 * grad[k];
+      // Keep sizes and sharpness positive.
+      if (!p.range.contains(params[k])) params[k] = std::max(params[k], 0.05);
+    }
+  }
+  EXPECT_TRUE(std::isfinite(last));
+  EXPECT_LT(last, 0.9 * start);
 }
 
 }  // namespace

@@ -109,6 +109,19 @@ class Comparer {
     if (!(d = refs(a.unified, b.unified, path + ".unified")).empty()) return d;
     if (!(d = opt(a.temperature, b.temperature, path + ".temperature")).empty()) return d;
     if (!(d = opt(a.omega, b.omega, path + ".omega")).empty()) return d;
+    if (a.op == OpKind::kSpline) {
+      if (a.spline_cells != b.spline_cells) return path + ": cells";
+      if (a.spline_degree != b.spline_degree) return path + ": degree";
+      if (a.spline_box.has_value() != b.spline_box.has_value()) return path + ": box presence";
+      if (a.spline_box) {
+        for (std::size_t k = 0; k < 3; ++k) {
+          if (!same_bits(a.spline_box->min[k], b.spline_box->min[k]) ||
+              !same_bits(a.spline_box->max[k], b.spline_box->max[k])) {
+            return path + ": box values";
+          }
+        }
+      }
+    }
     if (a.children.size() != b.children.size()) return path + ": child count";
     for (std::size_t k = 0; k < a.children.size(); ++k) {
       if (exact_ && a.children[k] != b.children[k]) return path + ": child index";

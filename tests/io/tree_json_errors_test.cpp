@@ -411,6 +411,70 @@ TEST(TreeJsonErrors, ChildrenCounts) {
   });
 }
 
+TEST(TreeJsonErrors, Spline) {
+  const std::string c = R"({"type": "circle", "radius": 0.5})";
+  const auto circles = [&](int n) {
+    std::string s;
+    for (int k = 0; k < n; ++k) s += (k ? ", " : "") + c;
+    return "[" + s + "]";
+  };
+  const auto spline2 = [&](const std::string& fields, int children) {
+    return tree2(R"({"op": "spline", )" + fields + R"(, "children": )" + circles(children) + "}");
+  };
+  // A valid one, to be sure the cases below fail for the reason they name.
+  EXPECT_EQ(error_of(spline2(R"("cells": [3, 2], "degree": 1)", 6)), "no error");
+  expect_messages({
+      {spline2(R"("cells": [3, 2, 2], "degree": 1)", 12),
+       "tree.json: root.cells: needs 2 entries for a 2D tree (got 3)"},
+      {spline2(R"("cells": [3, 2], "degree": 1)", 5),
+       "tree.json: root.children: a spline with cells [3, 2] needs 6 children (got 5)"},
+      {spline2(R"("cells": [3, 2])", 6),
+       "tree.json: root.cells[1]: must be in [3, 256] for degree 2 (got 2)"},
+      {spline2(R"("cells": [300, 2], "degree": 1)", 6),
+       "tree.json: root.cells[0]: must be in [2, 256] for degree 1 (got 300)"},
+      {spline2(R"("cells": [3, 2.0], "degree": 1)", 6),
+       "tree.json: root.cells[1]: expected an integer (got 2.0)"},
+      {spline2(R"("cells": 6, "degree": 1)", 6),
+       "tree.json: root.cells: expected an array of 2 integers (got 6)"},
+      {spline2(R"("cells": [3, 3], "degree": 6)", 9),
+       "tree.json: root.degree: must be in [1, 5] (got 6)"},
+      {spline2(R"("cells": [3, 3], "degree": 0)", 9),
+       "tree.json: root.degree: must be in [1, 5] (got 0)"},
+      {spline2(R"("cells": [3, 3], "degree": {"value": 2})", 9),
+       "tree.json: root.degree: expected an integer (got an object)"},
+      {tree2(R"({"op": "spline", "children": [{"type": "circle", "radius": 1}]})"),
+       "tree.json: root: missing field \"cells\""},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, 0], "max": [1, 0]})", 9),
+       "tree.json: root.box.max[1]: must be greater than box.min[1] = 0 (got 0)"},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, 0], "max": [1, 1e999]})", 9),
+       "tree.json: root.box.max[1]: must be finite (got 1e999)"},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, 0, 0], "max": [1, 1]})", 9),
+       "tree.json: root.box.min: expected 2 numbers (got 3)"},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, {"value": 0}], "max": [1, 1]})", 9),
+       "tree.json: root.box.min[1]: expected a number (got an object)"},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, 0]})", 9),
+       "tree.json: root.box: missing field \"max\""},
+      {spline2(R"("cells": [3, 3], "box": {"min": [0, 0], "max": [1, 1], "mid": 0})", 9),
+       "tree.json: root.box: unknown field \"mid\""},
+      {spline2(R"("cells": [3, 3], "box": [0, 1])", 9),
+       "tree.json: root.box: expected {\"min\": [...], \"max\": [...]} (got an array)"},
+      {spline2(R"("cells": [3, 3], "logic": "godel")", 9),
+       "tree.json: root: field \"logic\" does not apply to spline nodes"},
+      {spline2(R"("cells": [3, 3], "complement": "cosine")", 9),
+       "tree.json: root: field \"complement\" does not apply to spline nodes"},
+      {spline2(R"("cells": [3, 3], "p": 2)", 9),
+       "tree.json: root: field \"p\" does not apply to spline nodes"},
+      {spline2(R"("cells": [3, 3], "knots": [0, 1])", 9),
+       "tree.json: root: unknown field \"knots\""},
+      {tree2(R"({"op": "union", "cells": [2, 2], "children": )" + circles(2) + "}"),
+       "tree.json: root: field \"cells\" does not apply to union nodes"},
+      {tree2(R"({"op": "complement", "degree": 2, "children": )" + circles(1) + "}"),
+       "tree.json: root: field \"degree\" does not apply to complement nodes"},
+      {tree3(R"({"op": "spline", "cells": [2, 2, 2], "degree": 1, "children": [)" + kSphere + "]}"),
+       "tree.json: root.children: a spline with cells [2, 2, 2] needs 8 children (got 1)"},
+  });
+}
+
 TEST(TreeJsonErrors, DuplicateKeys) {
   expect_messages({
       {R"({"format": "fuzzycsg-tree", "format": "fuzzycsg-tree"})",

@@ -369,6 +369,56 @@ TEST(TreeJson, WritesCanonicalText) {
       std::signbit(t.params[t.node(t.node(t.root).children[0]).placement.translate[1]].value));
 }
 
+TEST(TreeJson, SplineNodes) {
+  // Degree and box left out: degree 2, the tree's domain. Children's parameters are named by
+  // their paths as anywhere else; the spline itself has none.
+  const Tree t = read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+    "root": {"op": "spline", "name": "blend", "cells": [3, 3], "children": [
+      {"type": "circle", "radius": 0.1}, {"type": "circle", "radius": 0.2},
+      {"type": "circle", "radius": 0.3}, {"type": "circle", "radius": 0.4},
+      {"type": "circle", "radius": 0.5}, {"type": "circle", "radius": 0.6},
+      {"type": "circle", "radius": 0.7}, {"type": "circle", "radius": 0.8},
+      {"op": "spline", "cells": [2, 2], "degree": 1,
+       "box": {"min": [-0.5, 1e-300], "max": [0.5, 0.75]}, "children": [
+        {"type": "circle", "radius": 0.9}, {"type": "circle", "radius": 1},
+        {"type": "circle", "radius": 1.1}, {"type": "circle", "radius": 1.2}]}]}})");
+  const Node& root = t.node(t.root);
+  EXPECT_EQ(root.op, OpKind::kSpline);
+  EXPECT_EQ(root.spline_cells, (std::vector<int>{3, 3}));
+  EXPECT_EQ(root.spline_degree, 2);
+  EXPECT_FALSE(root.spline_box.has_value());
+  const Node& inner = t.node(root.children[8]);
+  EXPECT_EQ(inner.spline_degree, 1);
+  ASSERT_TRUE(inner.spline_box.has_value());
+  EXPECT_EQ(inner.spline_box->min[1], 1e-300);
+  EXPECT_EQ(inner.spline_box->max[1], 0.75);
+  EXPECT_EQ(t.params.size(), 24u);  // radius and sharpness of 12 circles
+  EXPECT_EQ(param(t, "root.children[8].children[3].radius").value, 1.2);
+  EXPECT_EQ(count(t).operators, 2);
+  EXPECT_EQ(count(t).primitives, 12);
+
+  const std::string written = write_tree_string(t);
+  const std::string inner_text = R"("op": "spline",
+        "cells": [2, 2],
+        "degree": 1,
+        "box": {
+          "min": [-0.5, 1e-300],
+          "max": [0.5, 0.75]
+        },
+        "children": [)";
+  EXPECT_NE(written.find(inner_text), std::string::npos) << written;
+  EXPECT_NE(written.find(R"("name": "blend",
+    "op": "spline",
+    "cells": [3, 3],
+    "degree": 2,
+    "children": [)"),
+            std::string::npos)
+      << written;
+  const Tree back = read_tree_string(written);
+  EXPECT_EQ(testing::tree_difference(t, back), "");
+  EXPECT_EQ(write_tree_string(back), written);
+}
+
 TEST(TreeJson, WriterRejectsInvalidTrees) {
   Tree t = read_tree_string(tree3(R"({"type": "sphere", "radius": 1})"));
   t.params[*t.params.find("root.radius")].value = -1;

@@ -232,11 +232,30 @@ class RandomTrees {
   Node make_operator(int depth) {
     Node n;
     n.kind = NodeKind::kOperator;
-    n.op = static_cast<OpKind>(integer(0, 4));
+    // Splines (many children) only near the leaves, so that trees stay small.
+    n.op = static_cast<OpKind>(integer(0, depth + 2 >= max_depth_ ? 5 : 4));
     int children = 2;
+    if (n.op == OpKind::kSpline) {
+      n.spline_degree = integer(1, 2);
+      children = 1;
+      for (int a = 0; a < tree_.dim; ++a) {
+        n.spline_cells.push_back(n.spline_degree + integer(1, 2));
+        children *= n.spline_cells.back();
+      }
+      if (chance(0.5)) {
+        Domain box;
+        for (std::size_t a = 0; a < 3; ++a) {
+          if (a >= static_cast<std::size_t>(tree_.dim)) continue;
+          box.min[a] = chance(0.2) ? std::bit_cast<double>(rng_() & 0x800FFFFFFFFFFFFFull)
+                                   : uniform(-100, 100);
+          box.max[a] = box.min[a] + uniform(1e-3, 50);
+        }
+        n.spline_box = box;
+      }
+    }
     if (n.op == OpKind::kUnion || n.op == OpKind::kIntersection) children = integer(2, 4);
     if (n.op == OpKind::kComplement) children = 1;
-    if (n.op != OpKind::kComplement && n.op != OpKind::kUnified) {
+    if (n.op != OpKind::kComplement && n.op != OpKind::kUnified && n.op != OpKind::kSpline) {
       n.logic.family = static_cast<logic::Family>(integer(0, 11));
       if (logic::uses_p(n.logic.family)) {
         n.logic.p = number(fields::logic_param(n.logic.family).range);
@@ -285,11 +304,17 @@ TEST(TreeRoundTrip, RandomTrees) {
   RandomTrees random(20240611);
   int nodes = 0;
   int shared = 0;
+  int splines = 0, boxes = 0;
   for (int i = 0; i < 600; ++i) {
     SCOPED_TRACE("random tree " + std::to_string(i));
     const Tree original = random.make(i % 2 == 0 ? 3 : 2, 1 + i % 6);
     validate(original, "random");
     nodes += static_cast<int>(original.nodes.size());
+    for (const Node& n : original.nodes) {
+      if (n.kind != NodeKind::kOperator || n.op != OpKind::kSpline) continue;
+      ++splines;
+      boxes += n.spline_box ? 1 : 0;
+    }
     for (const Parameter& p : original.params.entries()) shared += p.shared ? 1 : 0;
 
     const std::string text = write_tree_string(original);
@@ -303,6 +328,8 @@ TEST(TreeRoundTrip, RandomTrees) {
   // The generator did its job.
   EXPECT_GT(nodes, 3000);
   EXPECT_GT(shared, 100);
+  EXPECT_GT(splines, 50);
+  EXPECT_GT(boxes, 20);
 }
 
 TEST(TreeRoundTrip, DoublesAreBitIdentical) {

@@ -9,6 +9,7 @@
 
 #include <array>
 
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/primitives.hpp"
 #include "fuzzycsg/core/schema.hpp"
@@ -60,6 +61,13 @@ inline constexpr FieldSpec kUnifiedLogits{"logits",     Arity::kFixed, 4,
 inline constexpr FieldSpec kTemperature{"temperature",     Arity::kScalar, 1,
                                         Range::positive(), 1000.0,         true};
 inline constexpr FieldSpec kOmega{"omega", Arity::kScalar, 1, Range::any(), 10.0, true};
+
+// ---- the fuzzy spline ("cells", "degree": structure, not parameters)
+inline constexpr Range kSplineDegree = Range::closed(bspline::kMinDegree, bspline::kMaxDegree);
+// Basis functions per axis at degree d: at least d + 1.
+constexpr Range spline_cells_range(int degree) {
+  return Range::closed(degree + 1, bspline::kMaxCells);
+}
 
 // Intersection of two ranges (the constraint of a parameter shared by fields of both).
 Range intersect(const Range& a, const Range& b);

@@ -1,13 +1,15 @@
 #pragma once
 // A tree compiled into a flat post-order tape (Liu et al. App. A, after Grasberger et al.):
 // every instruction reads the slots of its inputs, which come earlier in the tape, and writes
-// its own slot. n-ary unions and intersections are folded left into binary instructions.
+// its own slot. n-ary unions and intersections are folded left into binary instructions, and a
+// spline node into one instruction per child: acc + B_k(p) L_k (the first without acc).
 //
 // Parameters are mapped to per-instruction *constants* once per call (prepare): rotation
 // matrices from Euler angles, the bilinear coefficients (a, b, d) of a unified operator from its
 // logits, and so on. The kernel works on constants only; its gradient with respect to the
 // constants is pulled back to the parameters once per call (pullback).
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -22,6 +24,7 @@ enum class OpCode : std::uint8_t {
   kBilinear,      // a x + b y + d x y: product-logic booleans and the unified operator B_c
   kLogic,         // intersection / union / difference of another logic family
   kComplement,    // C(x)
+  kSplineTerm,    // [left +] B_k(p) right: one term of a spline node (left -1 for the first)
 };
 
 enum class LogicOp : std::uint8_t { kIntersection, kUnion, kDifference };
@@ -54,6 +57,12 @@ struct Instruction {
   logic::Family family = logic::Family::kProduct;
   int n = 0;
   logic::Complement complement = logic::Complement::kStandard;
+
+  // kSplineTerm: B_k is the product over the axes of N_{index[a]} of the spline's degree with
+  // cells[a] functions (core/bspline.hpp). Constants: per axis the box's min, then per axis
+  // the scale (cells - degree) / (max - min) of the normalised parameter.
+  int spline_degree = 0;
+  std::array<std::int16_t, 3> spline_index{}, spline_cells{};
 };
 
 // d loss / d parameter contributed by one instruction (before summing over instructions that

@@ -50,7 +50,7 @@ class ParameterTable {
 };
 
 enum class NodeKind { kPrimitive, kOperator };
-enum class OpKind { kUnion, kIntersection, kDifference, kComplement, kUnified };
+enum class OpKind { kUnion, kIntersection, kDifference, kComplement, kUnified, kSpline };
 enum class StepKind { kSigmoid, kCrisp, kHn };
 
 std::string_view op_name(OpKind op);  // "union", "intersection", "difference", ...
@@ -80,6 +80,11 @@ struct ComplementSpec {
   std::optional<ParamRef> lambda;
 };
 
+struct Domain {
+  std::array<double, 3> min{-1, -1, -1};
+  std::array<double, 3> max{1, 1, 1};
+};
+
 struct Node {
   NodeKind kind = NodeKind::kPrimitive;
   std::string name;  // optional label ("name" in the file)
@@ -97,12 +102,14 @@ struct Node {
   bool unified_logits = false;    // kUnified: weights given as logits (else barycentric c)
   std::vector<ParamRef> unified;  // kUnified: c[4] or logits[4]
   std::optional<ParamRef> temperature, omega;  // kUnified with logits
-  std::vector<int> children;                   // indices into Tree::nodes
-};
-
-struct Domain {
-  std::array<double, 3> min{-1, -1, -1};
-  std::array<double, 3> max{1, 1, 1};
+  // kSpline (Li & Tian's fuzzy spline, core/bspline.hpp): sum_k B_k(p) children[k], the B_k
+  // tensor products of clamped uniform B-splines of degree `spline_degree` with
+  // spline_cells[a] basis functions along axis a (dim entries), children in x-fastest order,
+  // over `spline_box` (absent: the tree's domain). Structure, not parameters.
+  std::vector<int> spline_cells;
+  int spline_degree = 2;
+  std::optional<Domain> spline_box;
+  std::vector<int> children;  // indices into Tree::nodes
 };
 
 struct Tree {
@@ -114,6 +121,8 @@ struct Tree {
 
   Domain domain_or_default() const { return domain.value_or(Domain{}); }
   const Node& node(int i) const { return nodes.at(static_cast<std::size_t>(i)); }
+  // The box a spline node's basis is laid over: its own, or the tree's domain.
+  Domain spline_box(const Node& n) const { return n.spline_box.value_or(domain_or_default()); }
 };
 
 // Checks structure (children counts, dimensions, acyclic single-parent tree, parameter counts)

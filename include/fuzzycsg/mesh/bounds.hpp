@@ -13,7 +13,10 @@
 //   non-decreasing in both arguments and differences non-decreasing in the first, non-increasing
 //   in the second (checked for every family by sampling in tests/mesh/bounds_test.cpp), except
 //   Li & Tian's hat-AND, which is not monotone and is bounded by [0, 1]; the unified operator
-//   B_c is bilinear, so its extremes over a box lie at the corners.
+//   B_c is bilinear, so its extremes over a box lie at the corners;
+// - a spline node is a convex combination of its children; over the box each weight lies in
+//   the product of the axes' basis ranges (0 where a child's basis vanishes), so the node is
+//   bounded by the extremes of such combinations of its children's bounds (within their hull).
 
 #include <memory>
 #include <span>
