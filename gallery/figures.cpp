@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <stdexcept>
 
+#include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/canvas.hpp"
@@ -489,11 +492,73 @@ void litian_fig13(const FigureOptions& o) {
   fig.save(c);
 }
 
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read " + path.string());
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Li & Tian §2.2: a fuzzy spline shape, examples/spline_shape.json -- 36 local shapes L_k
+// (circles and ellipses about the origin) blended by a 6 x 6 quadratic B-spline basis.
+void litian_spline(const FigureOptions& o) {
+  Figure fig(o, "litian-spline-shape");
+  Layout l{o.quick ? 60 : 300};
+  l.left = 12;
+  const std::string text =
+      read_text(std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "examples/spline_shape.json");
+  const Tree tree = parse(text);
+  const nlohmann::json json = nlohmann::json::parse(text);
+  const auto& root = json.at("root");
+  const int nx = root.at("cells")[0].get<int>(), ny = root.at("cells")[1].get<int>();
+  const int degree = root.value("degree", 2);
+  Canvas c = titled(
+      l.width(3), l.height(1),
+      fmt::format("Li & Tian 2.2: a fuzzy spline shape F = sum_k L_k B_k ({}x{} cells, degree {})",
+                  nx, ny, degree));
+  const Window w;
+  const int n = l.panel;
+  // The local shapes: each child's 0.5 contour.
+  c.fill(l.x(0), l.y(0), l.x(0) + n, l.y(0) + n, {250, 250, 250});
+  for (const auto& child : root.at("children")) {
+    const Field f = sample_tree(parse(tree_json(2, child.dump())), w, n, n);
+    draw_contour(c, l.x(0), l.y(0), f, 0.5, {120, 140, 190}, 1);
+  }
+  draw_frame(c, l.x(0), l.y(0), l.x(0) + n - 1, l.y(0) + n - 1, {170, 170, 170});
+  panel_caption(c, l, 0, 0, fmt::format("the {} local shapes L_k", nx * ny));
+  // One basis function (an interior one) and the knot lines.
+  const int bi = nx / 2, bj = ny / 2;
+  const auto basis = [&](double x, double y) {
+    const double ux =
+        bspline::parameter(x, -1.0, (nx - degree) / 2.0, static_cast<double>(nx - degree));
+    const double uy =
+        bspline::parameter(y, -1.0, (ny - degree) / 2.0, static_cast<double>(ny - degree));
+    return bspline::basis(bi, nx, degree, ux) * bspline::basis(bj, ny, degree, uy);
+  };
+  const Field b = sample(basis, w, n, n);
+  draw_colormap(c, l.x(1), l.y(0), b, 0.0, 1.0);
+  for (int k = 1; k < nx - degree; ++k) {
+    const int x =
+        l.x(1) + static_cast<int>(std::lround(static_cast<double>(k) / (nx - degree) * n));
+    c.line(x, l.y(0), x, l.y(0) + n - 1, {200, 200, 200});
+  }
+  for (int k = 1; k < ny - degree; ++k) {
+    const int y =
+        l.y(0) + static_cast<int>(std::lround(static_cast<double>(k) / (ny - degree) * n));
+    c.line(l.x(1), y, l.x(1) + n - 1, y, {200, 200, 200});
+  }
+  panel_caption(c, l, 0, 1, fmt::format("B_k, k = ({}, {}); knot lines", bi, bj));
+  fig.save_tree("shape", tree);
+  occupancy_panel(c, l, 0, 2, sample_tree(tree, w, n, n));
+  panel_caption(c, l, 0, 2, "F = sum_k L_k B_k");
+  fig.save(c);
+}
+
 }  // namespace
 
 std::vector<std::string> figure_names() {
-  return {"liu-fig3",    "liu-fig5",     "liu-fig7",     "liu-fig8",     "liu-fig9",
-          "litian-fig7", "litian-fig10", "litian-fig11", "litian-fig12", "litian-fig13"};
+  return {"liu-fig3",     "liu-fig5",     "liu-fig7",     "liu-fig8",
+          "liu-fig9",     "litian-fig7",  "litian-fig10", "litian-fig11",
+          "litian-fig12", "litian-fig13", "litian-spline"};
 }
 
 void make_figure(const std::string& name, const FigureOptions& o) {
@@ -515,6 +580,7 @@ void make_figure(const std::string& name, const FigureOptions& o) {
   }
   if (name == "litian-fig12") return litian_fig12(o);
   if (name == "litian-fig13") return litian_fig13(o);
+  if (name == "litian-spline") return litian_spline(o);
   throw std::invalid_argument("unknown figure: " + name);
 }
 

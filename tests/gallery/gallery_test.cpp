@@ -1,12 +1,16 @@
 // What each gallery picture claims, measured on the scenes the pictures are drawn from.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <vector>
 
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
 #include "gallery/figures.hpp"
 #include "gallery/plotting.hpp"
 
@@ -174,9 +178,44 @@ TEST(GalleryLiTianFig12, HatPreservesMoreShape) {
   EXPECT_GT(wide, plain);
 }
 
+// Li & Tian §2.2: the spline shape's F is a convex combination of its local shapes, so it stays a
+// fuzzy set: at every point between the smallest and the largest child occupancy there.
+TEST(GallerySpline, BlendIsConvexCombination) {
+  const Tree tree =
+      io::read_tree_file(std::string(FUZZYCSG_SOURCE_DIR) + "/examples/spline_shape.json");
+  const Node& root = tree.node(tree.root);
+  ASSERT_EQ(root.children.size(), 36u);
+  std::vector<Field> children;
+  const Field f = sample_tree(tree, Window{}, 64, 64);
+  double lo_seen = 1, hi_seen = 0;
+  for (std::size_t i = 0; i < f.v.size(); ++i) {
+    lo_seen = std::min(lo_seen, f.v[i]);
+    hi_seen = std::max(hi_seen, f.v[i]);
+  }
+  EXPECT_GE(lo_seen, 0.0);
+  EXPECT_LE(hi_seen, 1.0);
+  EXPECT_LT(lo_seen, 0.1);  // the shape has an outside
+  EXPECT_GT(hi_seen, 0.9);  // and an inside
+  // Against the children evaluated alone (each child as its own tree).
+  std::ifstream in(std::string(FUZZYCSG_SOURCE_DIR) + "/examples/spline_shape.json");
+  const nlohmann::json json = nlohmann::json::parse(in);
+  for (const auto& child : json.at("root").at("children")) {
+    children.push_back(sample_tree(parse(tree_json(2, child.dump())), Window{}, 64, 64));
+  }
+  for (std::size_t i = 0; i < f.v.size(); ++i) {
+    double lo = 1, hi = 0;
+    for (const Field& ch : children) {
+      lo = std::min(lo, ch.v[i]);
+      hi = std::max(hi, ch.v[i]);
+    }
+    ASSERT_GE(f.v[i], lo - 1e-5);
+    ASSERT_LE(f.v[i], hi + 1e-5);
+  }
+}
+
 TEST(GalleryFigures, UnknownNameThrows) {
   EXPECT_THROW(make_figure("no-such-figure", FigureOptions{}), std::invalid_argument);
-  EXPECT_EQ(figure_names().size(), 10u);
+  EXPECT_EQ(figure_names().size(), 11u);
 }
 
 }  // namespace
