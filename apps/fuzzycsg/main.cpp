@@ -26,11 +26,12 @@ int main(int argc, char** argv) {
   CLI::App app{"fuzzycsg: CSG trees with fuzzy booleans", "fuzzycsg"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "fuzzycsg 0.1.0");
-  const std::vector<fuzzycsg::app::Verb> verbs{
+  std::vector<fuzzycsg::app::Verb> verbs{
       fuzzycsg::app::register_eval(app),  fuzzycsg::app::register_info(app),
       fuzzycsg::app::register_demo(app),  fuzzycsg::app::register_fit(app),
       fuzzycsg::app::register_prune(app), fuzzycsg::app::register_mesh(app),
       fuzzycsg::app::register_render(app)};
+  verbs.push_back(fuzzycsg::app::register_export(app));
 
   try {
     app.parse(argc, argv);
