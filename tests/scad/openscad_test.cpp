@@ -161,24 +161,26 @@ TEST(OpenScad, ComplementUnifiedAndLogicFamilies) {
   expect_matches(tree, r, 0.02, 0.97);
 }
 
-// Quadric leaves of every kind, placed by random rotations as a fit leaves them: written as
-// primitives through multmatrix (and one hyperboloid as a polyhedron).
+// Quadric leaves of every kind, placed by random rotations as a fit leaves them (one with a
+// placement of its own, as fits to meshes write them): written as primitives through
+// multmatrix, and one hyperboloid as a polyhedron.
 TEST(OpenScad, ClassifiedQuadricLeaves) {
   FUZZYCSG_REQUIRE_OPENSCAD();
   std::mt19937_64 rng(11);
   const auto rot = [&] { return scad_test::random_rotation(rng); };
   const auto quadric = [&](Eigen::Vector3d g, Eigen::Vector3d h, double k0, Eigen::Vector3d axes,
-                           Eigen::Vector3d c, double s) {
+                           Eigen::Vector3d c, double s, const std::string& placement = "") {
     return std::string(R"({"type": "quadric", "coefficients": )") +
            json_numbers(scad_test::make_quadric3(Eigen::Matrix3d(g.asDiagonal()), h, k0, rot(),
                                                  axes, c, s)) +
-           "}";
+           placement + "}";
   };
   using V = Eigen::Vector3d;
   const std::string sphere =
       quadric(V(1, 1, 1), V(0, 0, 0), -1, V(0.25, 0.25, 0.25), V(-0.5, -0.5, 0.5), 2);
   const std::string ellipsoid =
-      quadric(V(1, 1, 1), V(0, 0, 0), -1, V(0.3, 0.2, 0.12), V(0.5, -0.5, 0.5), 0.3);
+      quadric(V(1, 1, 1), V(0, 0, 0), -1, V(0.3, 0.2, 0.12), V(0.5, -0.5, 0.5), 0.3,
+              R"(, "translate": [0.05, -0.1, 0], "rotate": [10, 20, 30], "scale": 0.8)");
   const std::string cylinder =
       quadric(V(1, 1, 0), V(0, 0, 0), -1, V(0.15, 0.2, 1), V(-0.5, 0.5, 0.5), 5);
   const std::string slab = quadric(V(0, 0, 1), V(0, 0, 0), -1, V(1, 1, 0.3), V(-0.5, 0.5, 0.5), 1);

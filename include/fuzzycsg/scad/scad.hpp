@@ -120,7 +120,7 @@ enum class Clip {
 
 struct ExportOptions {
   int fn = 64;          // $fn: facets of OpenSCAD's curved primitives, written once at the top
-  int resolution = 64;  // meshed leaves: cells along the domain's longest side
+  int resolution = 32;  // meshed leaves: cells along the domain's longest side
   ClassifyOptions classify;
   Clip clip = Clip::kAuto;
   std::string source;  // named in the header comment (usually the tree file)
