@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -41,8 +42,14 @@ int run_export(ExportArgs a) {
     throw InputError(fmt::format("{}: unknown format '{}' (export writes .scad)", a.out,
                                  lowercase_extension(a.out)));
   }
-  if (!a.report.empty() && lowercase_extension(a.report) != ".json") {
-    throw InputError(fmt::format("--report {}: the report is JSON (.json)", a.report));
+  if (!a.report.empty()) {
+    if (lowercase_extension(a.report) != ".json") {
+      throw InputError(fmt::format("--report {}: the report is JSON (.json)", a.report));
+    }
+    const auto dir = std::filesystem::path(a.report).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) {
+      throw InputError(fmt::format("cannot write {}: no directory {}", a.report, dir.string()));
+    }
   }
   a.options.clip = a.clip == "always"  ? scad::Clip::kAlways
                    : a.clip == "never" ? scad::Clip::kNever

@@ -331,6 +331,7 @@ fi
 expect_error "cannot write" "$bin" export "$tmp/sphere.json" -o "$tmp/no/such/dir/x.scad"
 expect_error "x.stl: unknown format '.stl' \(export writes .scad\)" "$bin" export "$tmp/sphere.json" -o "$tmp/x.stl"
 expect_error "--report" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --report "$tmp/y.txt"
+expect_error "cannot write .*no/r.json" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --report "$tmp/no/r.json"
 expect_error "no-such-file.json" "$bin" export "$tmp/no-such-file.json" -o "$tmp/y.scad"
 expect_error "field.json: root.children\[0\].*radus" "$bin" export "$tmp/field.json" -o "$tmp/y.scad"
 expect_error "--fn" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --fn 2

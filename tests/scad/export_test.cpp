@@ -3,10 +3,10 @@
 // and errors (no file written, an existing file left as it was).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 
 #include "fuzzycsg/core/error.hpp"
@@ -136,13 +136,21 @@ Polyhedron parse_polyhedron(const std::string& s) {
   const std::size_t faces = s.find("faces = [", at);
   const std::size_t end = s.find("], convexity", faces);
   if (at == std::string::npos || faces == std::string::npos || end == std::string::npos) return p;
-  const std::regex triple(R"(\[([^\[\],]+), ([^\[\],]+), ([^\[\],]+)\])");
-  const std::string pts = s.substr(at, faces - at), fcs = s.substr(faces, end - faces);
-  for (std::sregex_iterator it(pts.begin(), pts.end(), triple), e; it != e; ++it) {
-    p.points.push_back({std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3])});
-  }
-  for (std::sregex_iterator it(fcs.begin(), fcs.end(), triple), e; it != e; ++it) {
-    p.faces.push_back({std::stoi((*it)[1]), std::stoi((*it)[2]), std::stoi((*it)[3])});
+  // Every innermost [a, b, c] of the points' and of the faces' lists.
+  const auto triples = [](const std::string& t) {
+    std::vector<std::array<double, 3>> out;
+    for (std::size_t i = t.find('['); i != std::string::npos; i = t.find('[', i + 1)) {
+      const std::size_t close = t.find(']', i);
+      const std::string inner = t.substr(i + 1, close - i - 1);
+      if (inner.find('[') != std::string::npos) continue;
+      std::array<double, 3> v{};
+      if (std::sscanf(inner.c_str(), "%lf, %lf, %lf", &v[0], &v[1], &v[2]) == 3) out.push_back(v);
+    }
+    return out;
+  };
+  p.points = triples(s.substr(at, faces - at));
+  for (const auto& f : triples(s.substr(faces, end - faces))) {
+    p.faces.push_back({static_cast<int>(f[0]), static_cast<int>(f[1]), static_cast<int>(f[2])});
   }
   return p;
 }

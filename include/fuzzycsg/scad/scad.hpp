@@ -154,7 +154,7 @@ struct ExportReport {
 std::string report_json(const ExportReport& report);
 
 // The .scad text. Throws InputError when an option is out of range (fn in [3, 10000],
-// resolution in [2, kMaxMeshResolution]) or the tree has no leaf in its dimension's families.
+// resolution in [2, kMaxMeshResolution - 4]) or the tree is not valid (validate()).
 std::string export_scad(const Tree& tree, std::span<const double> params,
                         const ExportOptions& options = {}, ExportReport* report = nullptr);
 
