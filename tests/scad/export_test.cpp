@@ -245,7 +245,7 @@ TEST(ScadExport, QuadricsAreWrittenAsTheirPrimitives) {
 
 TEST(ScadExport, BadPathsAndOptionsWriteNothing) {
   const Tree tree = io::read_tree_string(tree_text(3, R"({"type": "sphere", "radius": 0.5})"));
-  const auto dir = scad_test::test_dir("errors");
+  const scad_test::TestDir dir("errors");
   const auto expect_error = [&](const std::filesystem::path& path, const scad::ExportOptions& o,
                                 const std::string& want) {
     try {
@@ -272,7 +272,7 @@ TEST(ScadExport, BadPathsAndOptionsWriteNothing) {
   EXPECT_EQ(ss.str(), "previous");
   // Nothing but the kept file is left in the directory (no temporary files).
   int files = 0;
-  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++files;
   EXPECT_EQ(files, 1);
   scad::write_scad(tree, tree.params.values(), dir / "kept.scad");
   std::ifstream again(dir / "kept.scad");

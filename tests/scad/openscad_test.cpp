@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -23,6 +24,7 @@ using scad_test::json_numbers;
 using scad_test::tree_text;
 
 struct Rendered {
+  std::shared_ptr<scad_test::TestDir> dir;  // keeps the files for the test's lifetime
   std::filesystem::path scad;
   TriangleMesh mesh;
   std::string log;
@@ -40,10 +42,12 @@ Rendered render_file(const std::filesystem::path& scad, const std::string& ext) 
 
 Rendered render(const std::string& name, const Tree& tree, const scad::ExportOptions& o,
                 scad::ExportReport* report = nullptr, const std::string& ext = ".stl") {
-  const auto dir = scad_test::test_dir(name);
-  const auto scad = dir / "model.scad";
+  auto dir = std::make_shared<scad_test::TestDir>(name);
+  const auto scad = *dir / "model.scad";
   scad::write_scad(tree, tree.params.values(), scad, o, report);
-  return render_file(scad, ext);
+  Rendered r = render_file(scad, ext);
+  r.dir = std::move(dir);
+  return r;
 }
 
 scad::ExportOptions options(int fn = 32) {

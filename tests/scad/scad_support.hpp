@@ -99,14 +99,27 @@ inline bool have_openscad() {
     }                                                                                          \
   } while (0)
 
-// A fresh directory for one test's files.
-inline std::filesystem::path test_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("fuzzycsg-scad-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
+// A fresh directory for one test's files, removed with it unless the test failed.
+class TestDir {
+ public:
+  explicit TestDir(const std::string& name)
+      : path_(std::filesystem::temp_directory_path() /
+              ("fuzzycsg-scad-" + name + "-" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TestDir() {
+    std::error_code ignored;
+    if (!::testing::Test::HasFailure()) std::filesystem::remove_all(path_, ignored);
+  }
+  TestDir(const TestDir&) = delete;
+  TestDir& operator=(const TestDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // Runs `openscad -o out in`; returns its exit status, and its messages in `log`.
 inline int run_openscad(const std::filesystem::path& in, const std::filesystem::path& out,
