@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
   libassimp-dev libembree-dev libstb-dev libnanoflann-dev libgraphviz-dev
+  openscad
 )
 # The PyTorch baseline of the benchmarks is optional for building and testing.
 if [[ "${FUZZYCSG_WITH_TORCH:-0}" == "1" ]]; then

@@ -31,8 +31,9 @@ int main(int argc, char** argv) {
       fuzzycsg::app::register_demo(app),  fuzzycsg::app::register_fit(app),
       fuzzycsg::app::register_prune(app), fuzzycsg::app::register_mesh(app),
       fuzzycsg::app::register_render(app)};
-
   verbs.push_back(fuzzycsg::app::register_diagram(app));
+  verbs.push_back(fuzzycsg::app::register_export(app));
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -380,5 +380,38 @@ expect_error "negative.json: root.children\[0\].radius" "$bin" diagram "$tmp/neg
 expect_error "--direction" "$bin" diagram "$tmp/sphere.json" -o "$tmp/d.svg" --direction up
 if [[ ! -e "$tmp/x.pdf" && ! -e "$tmp/n.svg" && ! -e "$tmp/d.svg" ]]; then ok; else bad "diagram error left a file"; fi
 
+# export: the crisp tree as an OpenSCAD program, its report, and its errors.
+if "$bin" export "$tmp/sphere.json" -o "$tmp/sphere.scad" --fn 24 --report "$tmp/export.json" \
+      >"$tmp/out" 2>&1 && grep -q '^\$fn = 24;$' "$tmp/sphere.scad" &&
+    grep -q 'sphere(r = 0.5);' "$tmp/sphere.scad" && grep -q '"leaves": 2' "$tmp/export.json"; then
+  ok
+else
+  bad "export: $(cat "$tmp/out")"
+fi
+cat >"$tmp/quadrics.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+ "root": {"op": "difference", "children": [
+   {"type": "quadric", "coefficients": [1, 1, 1, 0, 0, 0, 0, 0, 0, -0.36]},
+   {"type": "quadric", "coefficients": [1, 1, 4, 0, 0, 0, 0, 0, 0, -0.01], "rotate": [0, 90, 0]}]}}
+JSON
+if "$bin" export "$tmp/quadrics.json" -o "$tmp/quadrics.scad" >"$tmp/out" 2>&1 &&
+    grep -q "quadric leaves classified: 2 of 2; written as: ellipsoid 1, sphere 1" "$tmp/out"; then
+  ok
+else
+  bad "export of quadrics: $(cat "$tmp/out")"
+fi
+if command -v openscad >/dev/null 2>&1; then
+  if openscad -o "$tmp/quadrics_scad.stl" "$tmp/quadrics.scad" >"$tmp/out" 2>&1 &&
+      [[ -s "$tmp/quadrics_scad.stl" ]]; then ok; else bad "openscad cannot render the export: $(tail -3 "$tmp/out")"; fi
+fi
+expect_error "cannot write" "$bin" export "$tmp/sphere.json" -o "$tmp/no/such/dir/x.scad"
+expect_error "x.stl: unknown format '.stl' \(export writes .scad\)" "$bin" export "$tmp/sphere.json" -o "$tmp/x.stl"
+expect_error "--report" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --report "$tmp/y.txt"
+expect_error "cannot write .*no/r.json" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --report "$tmp/no/r.json"
+expect_error "no-such-file.json" "$bin" export "$tmp/no-such-file.json" -o "$tmp/y.scad"
+expect_error "field.json: root.children\[0\].*radus" "$bin" export "$tmp/field.json" -o "$tmp/y.scad"
+expect_error "--fn" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --fn 2
+if [[ ! -e "$tmp/x.stl" && ! -e "$tmp/y.scad" && ! -e "$tmp/y.txt" ]]; then ok; else bad "export error left a file"; fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
