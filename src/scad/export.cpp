@@ -517,6 +517,53 @@ struct Writer {
     t.root = 0;
     std::vector<double> values(params.begin(), params.end());
     values.push_back(4.0 / fmax);
+    return polytope(t, values, box, cell);
+  }
+
+  // A spline node (a blend, not a boolean: its crisp counterpart is the 0.5 level set of its
+  // occupancy) meshed or contoured as a whole, like a leaf, over the domain grown by two cells.
+  Lines meshed_subtree(int index) {
+    ++report.meshed_subtrees;
+    double longest = 0.0;
+    for (int i = 0; i < dim(); ++i) {
+      longest = std::max(longest, domain.max[static_cast<std::size_t>(i)] -
+                                      domain.min[static_cast<std::size_t>(i)]);
+    }
+    const double cell = longest / o.resolution;
+    Domain box = domain;
+    for (int i = 0; i < dim(); ++i) {
+      box.min[static_cast<std::size_t>(i)] -= (2 + 0.0123) * cell;
+      box.max[static_cast<std::size_t>(i)] += (2 - 0.0123) * cell;
+    }
+    Tree t;
+    t.dim = tree.dim;
+    t.domain = box;
+    t.params = tree.params;
+    // The subtree's nodes, re-indexed in pre-order.
+    std::vector<int> stack{index};
+    std::vector<int> order;
+    while (!stack.empty()) {
+      const int i = stack.back();
+      stack.pop_back();
+      order.push_back(i);
+      const auto& kids = tree.node(i).children;
+      for (auto it = kids.rbegin(); it != kids.rend(); ++it) stack.push_back(*it);
+    }
+    std::vector<int> remap(tree.nodes.size(), -1);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      remap[static_cast<std::size_t>(order[k])] = static_cast<int>(k);
+    for (const int i : order) {
+      Node copy = tree.node(i);
+      for (int& c : copy.children) c = remap[static_cast<std::size_t>(c)];
+      t.nodes.push_back(std::move(copy));
+    }
+    t.root = 0;
+    const std::vector<double> values(params.begin(), params.end());
+    return polytope(t, values, box, cell);
+  }
+
+  // The 0.5 level set of `t` (whose domain is `box`) as a polyhedron (3D) or polygon (2D).
+  Lines polytope(const Tree& t, std::span<const double> values, const Domain& box, double cell) {
     MeshOptions mo;
     mo.resolution = o.resolution + 4;
     mo.threads = o.threads;
@@ -725,6 +772,13 @@ struct Writer {
         l.append(node(kids[0]), 1);
         l.add(0, "}");
         return l;
+      case OpKind::kSpline: {
+        l.add(0, fmt::format("// {}: spline blend of {} shapes, meshed at resolution {}",
+                             comment_text(paths[static_cast<std::size_t>(index)]), kids.size(),
+                             o.resolution));
+        l.append(meshed_subtree(index), 0);
+        return l;
+      }
       case OpKind::kUnified: {
         std::array<double, 4> c{};
         for (std::size_t k = 0; k < 4; ++k) c[k] = params[n.unified[k].index];
@@ -779,6 +833,7 @@ std::string report_json(const ExportReport& r) {
   j["quadric_kinds"] = r.quadric_kinds;
   j["quadrics_outside"] = r.quadrics_outside;
   j["meshed_leaves"] = r.meshed_leaves;
+  j["meshed_subtrees"] = r.meshed_subtrees;
   j["clipped_to_domain"] = r.clipped;
   nlohmann::ordered_json leaves = nlohmann::ordered_json::array();
   for (const LeafReport& l : r.leaf_reports) {

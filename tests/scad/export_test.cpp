@@ -283,3 +283,35 @@ TEST(ScadExport, BadPathsAndOptionsWriteNothing) {
 
 }  // namespace
 }  // namespace fuzzycsg
+
+namespace fuzzycsg {
+namespace {
+
+// A spline node blends, it has no crisp boolean: it is written as the polygon (2D) or polyhedron
+// (3D) of its 0.5 level set, and its own leaves are not visited.
+TEST(ScadExport, SplineNodesAreMeshedAsAWhole) {
+  const std::string cells = R"("op": "spline", "cells": [2, 2], "degree": 1, "children": [)";
+  const std::string kid2 = R"({"type": "circle", "radius": 0.5, "sharpness": 20})";
+  const std::string kid3 = R"({"type": "sphere", "radius": 0.5, "sharpness": 20})";
+  for (int dim : {2, 3}) {
+    std::string children;
+    const int n = dim == 2 ? 4 : 8;
+    std::string root =
+        dim == 2
+            ? std::string("{") + cells
+            : std::string(R"({"op": "spline", "cells": [2, 2, 2], "degree": 1, "children": [)");
+    for (int k = 0; k < n; ++k) root += (k ? ", " : "") + (dim == 2 ? kid2 : kid3);
+    root += "]}";
+    scad::ExportReport report;
+    scad::ExportOptions o;
+    o.resolution = 16;
+    const std::string s = export_text(root, dim, o, &report);
+    EXPECT_NE(s.find("spline blend of " + std::to_string(n) + " shapes"), std::string::npos) << s;
+    EXPECT_EQ(count(s, dim == 2 ? "polygon(points" : "polyhedron(points"), 1u) << s;
+    EXPECT_EQ(report.meshed_subtrees, 1);
+    EXPECT_EQ(report.leaves, 0);  // the blend's children are inside the mesh
+  }
+}
+
+}  // namespace
+}  // namespace fuzzycsg

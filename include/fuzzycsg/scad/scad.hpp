@@ -145,8 +145,9 @@ struct ExportReport {
   // Quadric leaves by what they were written as: kind_name() ("sphere", "cylinder", ...,
   // "empty", "full"), or "polyhedron" ("polygon" in 2D) for those not classified.
   std::map<std::string, int> quadric_kinds;
-  int meshed_leaves = 0;  // leaves written as polyhedron / polygon (quadrics and others)
-  bool clipped = false;   // the model was intersected with the domain
+  int meshed_leaves = 0;    // leaves written as polyhedron / polygon (quadrics and others)
+  int meshed_subtrees = 0;  // spline nodes written as polyhedron / polygon of their 0.5 set
+  bool clipped = false;     // the model was intersected with the domain
   std::vector<LeafReport> leaf_reports;  // in the order of the tree's nodes
 };
 
