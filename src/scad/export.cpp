@@ -470,24 +470,32 @@ struct Writer {
     return l;
   }
 
-  // The leaf alone meshed (3D: polyhedron) or contoured (2D: polygon) over the domain grown by
-  // two cells (where the leaf reaches that box its mesh is capped there, outside the domain).
-  Lines meshed(int index) {
-    const Node& src = tree.node(index);
-    ++report.meshed_leaves;
+  // The box meshed leaves and blends are meshed over: the domain grown by two cells (`cell`:
+  // the domain's longest side over the resolution), the grid shifted by an odd fraction of a
+  // cell so that its points seldom fall on round coordinates, where hand-made leaves tend to
+  // have exact zeros.
+  Domain mesh_box(double& cell) const {
     double longest = 0.0;
     for (int i = 0; i < dim(); ++i) {
       longest = std::max(longest, domain.max[static_cast<std::size_t>(i)] -
                                       domain.min[static_cast<std::size_t>(i)]);
     }
-    const double cell = longest / o.resolution;
-    // Grown by two cells, with the grid shifted by an odd fraction of a cell so that its points
-    // seldom fall on round coordinates, where hand-made leaves tend to have exact zeros.
+    cell = longest / o.resolution;
     Domain box = domain;
     for (int i = 0; i < dim(); ++i) {
       box.min[static_cast<std::size_t>(i)] -= (2 + 0.0123) * cell;
       box.max[static_cast<std::size_t>(i)] += (2 - 0.0123) * cell;
     }
+    return box;
+  }
+
+  // The leaf alone meshed (3D: polyhedron) or contoured (2D: polygon) over the domain grown by
+  // two cells (where the leaf reaches that box its mesh is capped there, outside the domain).
+  Lines meshed(int index) {
+    const Node& src = tree.node(index);
+    ++report.meshed_leaves;
+    double cell = 0.0;
+    const Domain box = mesh_box(cell);
     // The leaf's f sampled to scale a sigmoid that is close to linear near the surface, so that
     // the mesh's vertices interpolate f = 0.
     std::mt19937_64 rng(o.classify.seed);
@@ -524,17 +532,8 @@ struct Writer {
   // occupancy) meshed or contoured as a whole, like a leaf, over the domain grown by two cells.
   Lines meshed_subtree(int index) {
     ++report.meshed_subtrees;
-    double longest = 0.0;
-    for (int i = 0; i < dim(); ++i) {
-      longest = std::max(longest, domain.max[static_cast<std::size_t>(i)] -
-                                      domain.min[static_cast<std::size_t>(i)]);
-    }
-    const double cell = longest / o.resolution;
-    Domain box = domain;
-    for (int i = 0; i < dim(); ++i) {
-      box.min[static_cast<std::size_t>(i)] -= (2 + 0.0123) * cell;
-      box.max[static_cast<std::size_t>(i)] += (2 - 0.0123) * cell;
-    }
+    double cell = 0.0;
+    const Domain box = mesh_box(cell);
     Tree t;
     t.dim = tree.dim;
     t.domain = box;

@@ -1,4 +1,5 @@
 #include "fuzzycsg/mesh/bounds.hpp"
+#include "bounds_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,44 +15,7 @@
 namespace fuzzycsg {
 namespace {
 
-// Samples boxes of several sizes in the domain and points in each (corners included), and
-// checks that every point's reference occupancy lies within the box's bounds. Returns the mean
-// width of the bounds (to check they are not trivially [0, 1]).
-void check_bounds_into(const Tree& tree, int boxes, unsigned seed, double* mean_width) {
-  const std::vector<double> params = tree.params.values();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), t(0.0, 1.0);
-  const int dim = tree.dim;
-  double width = 0.0;
-  for (int b = 0; b < boxes; ++b) {
-    const double size = std::pow(10.0, -2.0 + 2.0 * t(rng));  // 0.01 .. 1
-    double lo[3], hi[3];
-    for (int a = 0; a < dim; ++a) {
-      lo[a] = std::clamp(u(rng), -1.0, 1.0 - size);
-      hi[a] = lo[a] + size;
-    }
-    const Interval r = occupancy_bounds(tree, params, lo, hi);
-    ASSERT_LE(r.lo, r.hi);
-    width += r.hi - r.lo;
-    for (int s = 0; s < 40; ++s) {
-      double p[3];
-      for (int a = 0; a < dim; ++a) {
-        const double f = s < (1 << dim) ? ((s >> a) & 1) : t(rng);
-        p[a] = lo[a] + f * (hi[a] - lo[a]);
-      }
-      const double o = reference_occupancy(tree, params, p);
-      ASSERT_GE(o, r.lo - 1e-12) << "box " << b << " point " << s;
-      ASSERT_LE(o, r.hi + 1e-12) << "box " << b << " point " << s;
-    }
-  }
-  *mean_width = width / boxes;
-}
-
-double check_bounds(const Tree& tree, int boxes, unsigned seed) {
-  double width = 1.0;
-  check_bounds_into(tree, boxes, seed, &width);
-  return width;
-}
+using test::check_bounds;
 
 TEST(Bounds, ContainUnifiedQuadricTrees) {
   for (unsigned seed : {1u, 2u, 3u}) {

@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "bounds_support.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/mesh/bounds.hpp"
@@ -59,39 +60,7 @@ Tree spline_tree(int dim, std::vector<int> cells, int degree, const std::string&
       "spline");
 }
 
-// As tests/mesh/bounds_test.cpp: boxes of several sizes anywhere in the domain, points in each
-// (corners included); every reference occupancy lies within the box's bounds. Returns the mean
-// width of the bounds.
-double check_bounds(const Tree& tree, int boxes, unsigned seed) {
-  const std::vector<double> params = tree.params.values();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), t(0.0, 1.0);
-  const int dim = tree.dim;
-  double width = 0.0;
-  for (int b = 0; b < boxes; ++b) {
-    const double size = std::pow(10.0, -2.0 + 2.0 * t(rng));  // 0.01 .. 1
-    double lo[3], hi[3];
-    for (int a = 0; a < dim; ++a) {
-      lo[a] = std::clamp(u(rng), -1.0, 1.0 - size);
-      hi[a] = lo[a] + size;
-    }
-    const Interval r = occupancy_bounds(tree, params, lo, hi);
-    EXPECT_LE(r.lo, r.hi);
-    width += r.hi - r.lo;
-    for (int s = 0; s < 40; ++s) {
-      double p[3];
-      for (int a = 0; a < dim; ++a) {
-        const double f = s < (1 << dim) ? ((s >> a) & 1) : t(rng);
-        p[a] = lo[a] + f * (hi[a] - lo[a]);
-      }
-      const double o = reference_occupancy(tree, params, p);
-      EXPECT_GE(o, r.lo - 1e-12) << "box " << b << " point " << s;
-      EXPECT_LE(o, r.hi + 1e-12) << "box " << b << " point " << s;
-      if (o < r.lo - 1e-12 || o > r.hi + 1e-12) return width / (b + 1);
-    }
-  }
-  return width / boxes;
-}
+using test::check_bounds;
 
 TEST(SplineBounds, ContainTheOccupancy) {
   for (int degree = 1; degree <= 3; ++degree) {
