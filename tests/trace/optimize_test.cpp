@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
 
 #include "fuzzycsg/trace/optimize.hpp"
@@ -112,6 +113,23 @@ TEST(TraceOptimize, NeverWorsensARandomTree) {
     const LocalResult r = optimize_locally(ev, target);
     EXPECT_LE(r.score.total(), before.total());
     EXPECT_LE(r.score.mismatch(), before.mismatch());
+  }
+}
+
+TEST(TraceOptimize, LowersTheScoreOfRandomTreesOnAGlyph) {
+  const Bitmap target = read_bitmap(std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "glyphs" /
+                                    "DejaVuSans-Bold_U0050_P.png");
+  Rng rng(32);
+  for (int trial = 0; trial < 3; ++trial) {
+    TreeEvaluator ev(random_tree(norm_count(10, 2, rng), target.width(), target.height(), rng),
+                     target.width(), target.height());
+    const Score before = score(ev.result(), target, ev.tree().primitive_count());
+    const LocalResult r = optimize_locally(ev, target);
+    EXPECT_LT(r.score.total(), before.total());
+    EXPECT_EQ(r.score.primitives, ev.tree().primitive_count());
+    EXPECT_EQ(r.score.mismatch(), score(ev.result(), target, 0).mismatch());
+    // The evaluator's bitmap is that of its tree.
+    EXPECT_EQ(ev.result(), TreeEvaluator(ev.tree(), target.width(), target.height()).result());
   }
 }
 

@@ -31,6 +31,8 @@ PixelBox grow(const PixelBox& b, int margin, int width, int height);
 // exactly those whose centres satisfy contains(p, ...). Returns the pixel box drawn.
 PixelBox scan_convert(const Primitive& p, Bitmap& out);
 
+// The paper's measures of effort. Every full evaluation and every incremental update counts
+// as a tree evaluated, including the updates that undo a rejected step of the local optimizer.
 struct Counters {
   std::uint64_t primitives_scanned = 0;  // primitive scan conversions
   std::uint64_t trees_evaluated = 0;     // full evaluations and incremental updates
