@@ -128,6 +128,14 @@ TEST(TraceBitmap, CorruptMissingAndOversizedFilesAreOneLineErrorsNamingTheFile) 
   }
   EXPECT_NE(message(dir.file("huge.pbm", "P4\n10000 10000\n")).find("too large"),
             std::string::npos);
+  // A PNG header claiming 10000 x 10000 pixels is refused before anything is decoded.
+  static constexpr char kHugePng[] =
+      "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x27\x10"
+      "\x00\x00\x27\x10\x08\x00\x00\x00\x00\x9f\x25\x3d\xfb";
+  const std::string huge_png =
+      message(dir.file("huge.png", std::string(kHugePng, sizeof(kHugePng) - 1)));
+  EXPECT_NE(huge_png.find("huge.png"), std::string::npos) << huge_png;
+  EXPECT_NE(huge_png.find("too large"), std::string::npos) << huge_png;
   const std::string missing = message(fs::path("/nonexistent/dir/glyph.png"));
   EXPECT_NE(missing.find("glyph.png"), std::string::npos) << missing;
 }
