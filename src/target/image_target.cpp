@@ -1,7 +1,6 @@
 // Pictures: a binary mask on a square grid, its signed distance field, and the zero level set of
 // that field as the boundary.
 #include <fmt/format.h>
-#include <stb_image.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -13,6 +12,7 @@
 #include <string_view>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/picture.hpp"
 #include "fuzzycsg/target/signed_distance_grid.hpp"
 #include "target_detail.hpp"
 
@@ -23,174 +23,6 @@ namespace {
 // The largest grid, native or resampled: the distance transforms of a 4096^2 grid already take
 // a quarter of a gigabyte.
 constexpr int kMaxGrid = 4096;
-// The largest picture read (8192^2): decoded grey and alpha, it takes 128 MiB. A few kilobytes
-// of PNG can claim far more.
-constexpr std::uint64_t kMaxPixels = std::uint64_t{1} << 26;
-
-void check_size(int width, int height, const std::string& name) {
-  if (static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height) > kMaxPixels) {
-    fail(name, fmt::format("cannot read image ({}x{} pixels is too large; at most {} pixels)",
-                           width, height, kMaxPixels));
-  }
-}
-
-// A picture binarised: inside[row * width + col], row 0 at the top.
-struct Bitmap {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> inside;
-};
-
-struct StbFree {
-  void operator()(unsigned char* p) const { stbi_image_free(p); }
-};
-
-Bitmap decode_with_stb(const std::string& bytes, const std::string& name) {
-  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-    fail(name, "cannot read image (file too large)");
-  }
-  int width = 0, height = 0, channels = 0;
-  const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
-  const int size = static_cast<int>(bytes.size());
-  if (stbi_info_from_memory(data_in, size, &width, &height, &channels)) {
-    check_size(width, height, name);
-  }
-  // Grey and alpha: a transparent background counts as white (icons are often drawn as dark
-  // shapes on a transparent background).
-  std::unique_ptr<unsigned char, StbFree> data(
-      stbi_load_from_memory(data_in, size, &width, &height, &channels, 2));
-  if (!data) {
-    const char* reason = stbi_failure_reason();
-    fail(name, std::string("cannot read image (") + (reason ? reason : "unknown error") + ")");
-  }
-  Bitmap b;
-  b.width = width;
-  b.height = height;
-  b.inside.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-  for (std::size_t i = 0; i < b.inside.size(); ++i) {
-    const int grey = data.get()[2 * i], alpha = data.get()[2 * i + 1];
-    // Over white: grey * a + 255 * (1 - a), in units of 1/255^2; dark below one half.
-    const int value = grey * alpha + 255 * (255 - alpha);
-    b.inside[i] = 2 * value < 255 * 255 ? 1 : 0;
-  }
-  return b;
-}
-
-// Netpbm bitmaps (P1 plain, P4 raw) and greymaps (P2 plain, P5 raw). stb_image reads only the
-// raw greymaps and pixmaps, not bitmaps nor plain text; one reader for all four keeps them
-// consistent.
-class PnmReader {
- public:
-  PnmReader(std::string_view bytes, const std::string& name) : s_(bytes), name_(name) {}
-
-  Bitmap read() {
-    if (s_.size() < 2 || s_[0] != 'P' || s_[1] < '1' || s_[1] > '6') {
-      fail(name_, "cannot read image (not a PBM or PGM file)");
-    }
-    const char kind = s_[1];
-    if (kind == '3' || kind == '6') {
-      fail(name_, fmt::format("cannot read image (P{} is a colour pixmap; expected a PBM or PGM "
-                              "file: P1, P2, P4 or P5)",
-                              kind));
-    }
-    pos_ = 2;
-    const bool bitmap = kind == '1' || kind == '4';
-    Bitmap b;
-    b.width = number("width");
-    b.height = number("height");
-    const int maxval = bitmap ? 1 : number("maximum value");
-    if (b.width < 1 || b.height < 1) bad("the width and height must be at least 1");
-    if (maxval < 1 || maxval > 65535) bad("the maximum value must be in [1, 65535]");
-    check_size(b.width, b.height, name_);
-    const auto w = static_cast<std::size_t>(b.width), h = static_cast<std::size_t>(b.height);
-    b.inside.resize(w * h);
-    if (kind == '4' || kind == '5') {
-      // One whitespace character separates the header from the raster.
-      if (pos_ >= s_.size() || !is_space(s_[pos_])) bad("no whitespace after the header");
-      ++pos_;
-    }
-    switch (kind) {
-      case '1':
-        for (auto& v : b.inside) {
-          skip_space();
-          if (pos_ >= s_.size()) bad("truncated raster");
-          if (s_[pos_] != '0' && s_[pos_] != '1') bad("expected 0 or 1 in the raster");
-          v = s_[pos_++] == '1' ? 1 : 0;  // 1 is black
-        }
-        break;
-      case '2':
-        for (auto& v : b.inside) {
-          const int value = number("pixel value");
-          if (value > maxval) bad("a sample exceeds the maximum value");
-          v = dark(value, maxval);
-        }
-        break;
-      case '4': {
-        const std::size_t row = (w + 7) / 8;
-        if (s_.size() - pos_ < row * h) bad("truncated raster");
-        for (std::size_t y = 0; y < h; ++y) {
-          for (std::size_t x = 0; x < w; ++x) {
-            const auto byte = static_cast<unsigned char>(s_[pos_ + y * row + x / 8]);
-            b.inside[y * w + x] = (byte >> (7 - x % 8)) & 1u;
-          }
-        }
-        break;
-      }
-      default: {  // '5'
-        const std::size_t bytes = maxval < 256 ? 1 : 2;
-        if (s_.size() - pos_ < bytes * w * h) bad("truncated raster");
-        for (std::size_t i = 0; i < w * h; ++i) {
-          const auto* p = reinterpret_cast<const unsigned char*>(s_.data() + pos_ + bytes * i);
-          const int value = bytes == 1 ? p[0] : (p[0] << 8) | p[1];  // big-endian
-          if (value > maxval) bad("a sample exceeds the maximum value");
-          b.inside[i] = dark(value, maxval);
-        }
-        break;
-      }
-    }
-    return b;
-  }
-
- private:
-  static bool is_space(char c) {
-    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-  }
-  static std::uint8_t dark(int value, int maxval) { return 2 * value < maxval ? 1 : 0; }
-
-  [[noreturn]] void bad(const std::string& problem) const {
-    fail(name_, "cannot read image (" + problem + ")");
-  }
-
-  // Whitespace and comments (from '#' to the end of the line).
-  void skip_space() {
-    while (pos_ < s_.size()) {
-      if (s_[pos_] == '#') {
-        while (pos_ < s_.size() && s_[pos_] != '\n' && s_[pos_] != '\r') ++pos_;
-      } else if (is_space(s_[pos_])) {
-        ++pos_;
-      } else {
-        break;
-      }
-    }
-  }
-
-  // A decimal number; after a header number the reader stays on the whitespace that ends it.
-  int number(const char* what) {
-    skip_space();
-    const std::size_t start = pos_;
-    long long v = 0;
-    while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') {
-      v = v * 10 + (s_[pos_] - '0');
-      if (v > 1'000'000'000) bad(fmt::format("the {} is too large", what));
-      ++pos_;
-    }
-    if (pos_ == start) bad(pos_ >= s_.size() ? "truncated" : fmt::format("expected the {}", what));
-    return static_cast<int>(v);
-  }
-
-  std::string_view s_;
-  const std::string& name_;
-  std::size_t pos_ = 0;
-};
 
 // A piece of the zero level set.
 struct Segment {
@@ -409,10 +241,7 @@ std::unique_ptr<Target> load_image(const std::filesystem::path& path, const std:
     fail(name, fmt::format("image_resolution must be in [0, {}] (got {})", kMaxGrid,
                            options.image_resolution));
   }
-  const std::string bytes = read_file_bytes(path, name);
-  const std::string ext = lowercase_extension(path);
-  const Bitmap image =
-      ext == ".pbm" || ext == ".pgm" ? PnmReader(bytes, name).read() : decode_with_stb(bytes, name);
+  const Picture image = read_picture(path, name);
 
   // The picture in the middle of a square of its longer side (the rest outside), that square
   // mapped to [-1, 1]^2 and sampled at n x n pixel centres, nearest neighbour.
