@@ -9,7 +9,7 @@ packages=(
   clang clang-format libclang-rt-14-dev
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
-  libassimp-dev libembree-dev libstb-dev libnanoflann-dev libgraphviz-dev
+  libassimp-dev libembree-dev libstb-dev libnanoflann-dev libgraphviz-dev libgif-dev
   openscad
 )
 # The PyTorch baseline of the benchmarks is optional for building and testing.

@@ -25,6 +25,8 @@ Verb register_mesh(CLI::App& app);
 Verb register_render(CLI::App& app);
 Verb register_diagram(CLI::App& app);
 Verb register_export(CLI::App& app);
+Verb register_trace(CLI::App& app);
+Verb register_morph(CLI::App& app);
 
 // A fit as the fit verb runs it (the demo runs one too).
 struct FitJob {

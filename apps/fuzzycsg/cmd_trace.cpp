@@ -1,0 +1,507 @@
+// fuzzycsg trace BITMAP -o OUTDIR [search options] [--runs N]
+// fuzzycsg morph A B -o OUTDIR [search options] [--frames N] [--rotation R] [--delay MS]
+//
+// The bitmap tracer of Gibson et al. 1997: the global search for a CSG tree of circles and
+// rectangles that reproduces a bitmap (trace: OUTDIR/tree.json, result.png, primitives.svg,
+// report.json; with --runs N > 1 also OUTDIR/distinct/NN/ for each distinct result), and the
+// morph between two bitmaps through a pair of trees of the same structure (morph:
+// OUTDIR/first.json, second.json, report.json, frames/frame_000.png ..., morph.gif).
+// docs/trace.md describes the outputs and the report's fields.
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/trace/bitmap.hpp"
+#include "fuzzycsg/trace/convert.hpp"
+#include "fuzzycsg/trace/evaluate.hpp"
+#include "fuzzycsg/trace/morph_frames.hpp"
+#include "fuzzycsg/trace/pictures.hpp"
+#include "fuzzycsg/trace/search.hpp"
+
+namespace fuzzycsg::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+using trace::Bitmap;
+using trace::CsgTree;
+using trace::SearchOptions;
+
+struct SearchArgs {
+  SearchOptions options;
+  std::string probabilities;  // "REP,ADD,CUT,MOD" as given ("": the defaults)
+  bool quiet = false;
+};
+
+struct TraceArgs {
+  std::string bitmap, out_dir;
+  SearchArgs search;
+  int runs = 1;
+  double min_difference = 0.01;
+};
+
+struct MorphArgs {
+  std::string first, second, out_dir;
+  SearchArgs search;
+  int frames = 30;
+  std::string rotation = "shortest";
+  int delay_ms = 80;
+};
+
+void add_search_options(CLI::App* cmd, SearchArgs& a) {
+  SearchOptions& o = a.options;
+  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--population", o.population, "|S|: trees searched in parallel")
+      ->capture_default_str();
+  cmd->add_option("--max-trees", o.max_trees, "N: iterations (trees perturbed) at most")
+      ->capture_default_str();
+  cmd->add_option("--patience", o.patience,
+                  "B: stop after this many iterations without improvement")
+      ->capture_default_str();
+  cmd->add_option("--refocus", o.refocus,
+                  "n: every n iterations the worse half of S is replaced by the better")
+      ->capture_default_str();
+  cmd->add_option("--initial-size", o.initial_size, "a: mean primitives of the initial trees")
+      ->capture_default_str();
+  cmd->add_option("--initial-sd", o.initial_sd, "s: their standard deviation")
+      ->capture_default_str();
+  cmd->add_option("--added-size", o.added_size, "a': mean primitives added by REP and ADD")
+      ->capture_default_str();
+  cmd->add_option("--added-sd", o.added_sd, "s': their standard deviation")->capture_default_str();
+  cmd->add_option("--probabilities", a.probabilities,
+                  "REP,ADD,CUT,MOD: the perturbations' probabilities (normalised)")
+      ->default_str(fmt::format("{},{},{},{}", o.probabilities[0], o.probabilities[1],
+                                o.probabilities[2], o.probabilities[3]));
+  cmd->add_option("--iterations", o.local.max_iterations,
+                  "M: sweeps of the local optimizer at most")
+      ->capture_default_str();
+  cmd->add_option("--k", o.local.k, "k: score = EXCESS + UNCOVERED + k * primitives")
+      ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "Threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--batch", o.batch,
+                  "Iterations optimized in parallel (the result depends on it, not on --threads)")
+      ->capture_default_str();
+  cmd->add_option("--time-limit", o.time_limit, "Stop after this many seconds (0: none)")
+      ->capture_default_str();
+  cmd->add_option("--statistics-window", o.statistics_window,
+                  "Iterations per row of the report's history")
+      ->capture_default_str();
+  cmd->add_flag("-q,--quiet", a.quiet, "No summary");
+}
+
+// The options as given: --probabilities parsed, everything validated (InputError naming the
+// flag).
+SearchOptions search_options(const SearchArgs& a) {
+  SearchOptions o = a.options;
+  if (!a.probabilities.empty()) {
+    std::vector<double> values;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t comma = a.probabilities.find(',', start);
+      const std::string item = a.probabilities.substr(
+          start, comma == std::string::npos ? std::string::npos : comma - start);
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(item, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != item.size() || !std::isfinite(v)) {
+        throw InputError(fmt::format(
+            "--probabilities: \"{}\" is not a number (expected four numbers REP,ADD,CUT,MOD)",
+            item));
+      }
+      values.push_back(v);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (values.size() != 4) {
+      throw InputError(fmt::format("--probabilities: expected four numbers REP,ADD,CUT,MOD, got {}",
+                                   values.size()));
+    }
+    for (std::size_t i = 0; i < 4; ++i) {
+      if (values[i] < 0) {
+        throw InputError(fmt::format("--probabilities: {} = {} is negative",
+                                     trace::kPerturbationNames[i], values[i]));
+      }
+      o.probabilities[i] = values[i];
+    }
+    if (values[0] + values[1] + values[2] + values[3] <= 0) {
+      throw InputError("--probabilities: all four are zero");
+    }
+  }
+  trace::validate(o);
+  return o;
+}
+
+// The output directory, created (after the inputs are known to be good) and probed.
+void prepare_output_dir(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw InputError(
+        fmt::format("{}: cannot create output directory (a file is there)", dir.string()));
+  }
+  fs::create_directories(dir, ec);
+  if (ec) {
+    throw InputError(
+        fmt::format("{}: cannot create output directory ({})", dir.string(), ec.message()));
+  }
+  const fs::path probe = dir / ".fuzzycsg-write-test";
+  io::write_text_file_atomic(probe, "");
+  fs::remove(probe, ec);
+}
+
+double rate(std::uint64_t improved, std::uint64_t tried) {
+  return tried > 0 ? static_cast<double>(improved) / static_cast<double>(tried) : 0.0;
+}
+
+json operators_json(const std::array<std::uint64_t, 4>& tried,
+                    const std::array<std::uint64_t, 4>& improved) {
+  json j = json::object();
+  for (std::size_t i = 0; i < 4; ++i) {
+    j[trace::kPerturbationNames[i]] = {
+        {"tried", tried[i]}, {"improved", improved[i]}, {"rate", rate(improved[i], tried[i])}};
+  }
+  return j;
+}
+
+json settings_json(const SearchOptions& o) {
+  json j;
+  j["seed"] = o.seed;
+  j["population"] = o.population;
+  j["max_trees"] = o.max_trees;
+  j["patience"] = o.patience;
+  j["refocus"] = o.refocus;
+  j["initial_size"] = o.initial_size;
+  j["initial_sd"] = o.initial_sd;
+  j["added_size"] = o.added_size;
+  j["added_sd"] = o.added_sd;
+  json p = json::object();
+  for (std::size_t i = 0; i < 4; ++i) p[trace::kPerturbationNames[i]] = o.probabilities[i];
+  j["probabilities"] = p;
+  j["iterations"] = o.local.max_iterations;
+  j["k"] = o.local.k;
+  j["local"] = {{"margin", o.local.margin},       {"shift_step", o.local.shift_step},
+                {"size_step", o.local.size_step}, {"angle_step", o.local.angle_step},
+                {"min_size", o.local.min_size},   {"max_steps", o.local.max_steps},
+                {"prune", o.local.prune}};
+  j["threads"] = o.threads;
+  j["batch"] = o.batch;
+  j["time_limit"] = o.time_limit;
+  j["statistics_window"] = o.statistics_window;
+  return j;
+}
+
+json statistics_json(const trace::SearchStatistics& s) {
+  json j;
+  j["trees_evaluated"] = s.trees_evaluated;
+  j["tree_evaluations"] = s.tree_evaluations;
+  j["primitives_scanned"] = s.primitives_scanned;
+  j["iterations"] = s.iterations;
+  j["stopped_by"] = s.stopped_by ? s.stopped_by : "";
+  j["best_found_at"] = s.best_found_at;
+  j["seconds"] = s.seconds;
+  j["threads"] = s.threads;
+  j["operators"] = operators_json(s.tried, s.improved);
+  json history = json::array();
+  for (const trace::OperatorWindow& w : s.history) {
+    json row;
+    row["first_iteration"] = w.first_iteration;
+    row["last_iteration"] = w.last_iteration;
+    row["operators"] = operators_json(w.tried, w.improved);
+    history.push_back(row);
+  }
+  j["history"] = history;
+  json best = json::array();
+  for (const auto& [trees, score] : s.best_score) best.push_back({trees, score});
+  j["best_score"] = best;
+  return j;
+}
+
+json score_json(const trace::Score& s, const CsgTree& tree) {
+  json j;
+  j["score"] = s.total();
+  j["excess"] = s.excess;
+  j["uncovered"] = s.uncovered;
+  j["mismatch"] = s.mismatch();
+  j["primitives"] = s.primitives;
+  j["k"] = s.k;
+  j["depth"] = tree.empty() ? 0 : tree.depth();
+  j["expression"] = trace::expression(tree);
+  return j;
+}
+
+json bitmap_json(const std::string& path, const Bitmap& b) {
+  return {{"path", path}, {"width", b.width()}, {"height", b.height()}, {"pixels_set", b.count()}};
+}
+
+// A traced tree's files: tree.json, result.png (and primitives.svg when `svg`), in memory.
+struct TreeFiles {
+  std::string tree_json, result_png, primitives_svg;
+};
+TreeFiles tree_files(const CsgTree& tree, const Bitmap& target, bool svg) {
+  const trace::TreeEvaluator e(tree, target.width(), target.height());
+  const int scale = trace::display_scale(target.width(), target.height());
+  TreeFiles f;
+  f.tree_json = trace::to_tree_json(tree, target.width(), target.height());
+  f.result_png = trace::result_png(e.result(), target, scale);
+  if (svg) f.primitives_svg = trace::primitives_svg(tree, e.result(), target, scale);
+  return f;
+}
+
+std::string summary(const trace::Score& s) {
+  return fmt::format("score {:.6g} (excess {}, uncovered {}, {} primitive{})", s.total(), s.excess,
+                     s.uncovered, s.primitives, s.primitives == 1 ? "" : "s");
+}
+
+int run_trace(const TraceArgs& a) {
+  if (a.runs < 1) throw InputError(fmt::format("--runs: must be >= 1, got {}", a.runs));
+  if (!(a.min_difference >= 0 && a.min_difference <= 1)) {
+    throw InputError(fmt::format("--min-difference: must lie in [0, 1], got {}", a.min_difference));
+  }
+  const SearchOptions options = search_options(a.search);
+  const Bitmap target = trace::read_bitmap(a.bitmap);
+  const fs::path out(a.out_dir);
+  prepare_output_dir(out);
+
+  json report;
+  report["format"] = "fuzzycsg-trace-report";
+  report["version"] = 1;
+  report["verb"] = "trace";
+  report["command_line"] = command_line();
+  report["bitmap"] = bitmap_json(a.bitmap, target);
+  json settings = settings_json(options);
+  settings["runs"] = a.runs;
+  if (a.runs > 1) settings["min_difference"] = a.min_difference;
+  report["settings"] = settings;
+
+  trace::SearchResult best;
+  std::vector<std::pair<std::string, TreeFiles>> distinct_files;
+  if (a.runs == 1) {
+    best = trace::search(target, options);
+  } else {
+    trace::Variety v = trace::search_variety(target, options, a.runs, a.min_difference);
+    if (v.runs.empty() || v.distinct.empty()) {
+      throw std::runtime_error("search_variety returned no runs");
+    }
+    json runs = json::array();
+    for (std::size_t i = 0; i < v.runs.size(); ++i) {
+      json r;
+      r["run"] = i;
+      r["seed"] = options.seed + i;
+      const json fields = score_json(v.runs[i].score, v.runs[i].best);
+      for (const auto& [key, value] : fields.items()) r[key] = value;
+      r["statistics"] = statistics_json(v.runs[i].statistics);
+      runs.push_back(r);
+    }
+    json distinct = json::array();
+    for (std::size_t d = 0; d < v.distinct.size(); ++d) {
+      const auto run = static_cast<std::size_t>(v.distinct[d]);
+      const std::string dir = fmt::format("distinct/{:02}", d + 1);
+      distinct.push_back({{"directory", dir},
+                          {"run", run},
+                          {"seed", options.seed + run},
+                          {"score", v.runs[run].score.total()}});
+      distinct_files.emplace_back(dir, tree_files(v.runs[run].best, target, false));
+    }
+    report["runs"] = runs;
+    report["distinct"] = distinct;
+    best = v.runs[static_cast<std::size_t>(v.distinct.front())];
+    report["best_run"] = v.distinct.front();
+  }
+  const json result = score_json(best.score, best.best);
+  for (const auto& [key, value] : result.items()) report[key] = value;
+  report["statistics"] = statistics_json(best.statistics);
+  const TreeFiles files = tree_files(best.best, target, true);
+
+  // Everything is computed; each file is written atomically, the report last.
+  io::write_text_file_atomic(out / "tree.json", files.tree_json);
+  io::write_text_file_atomic(out / "result.png", files.result_png);
+  io::write_text_file_atomic(out / "primitives.svg", files.primitives_svg);
+  for (const auto& [dir, f] : distinct_files) {
+    std::error_code ec;
+    fs::create_directories(out / dir, ec);
+    if (ec) {
+      throw InputError(
+          fmt::format("{}: cannot create directory ({})", (out / dir).string(), ec.message()));
+    }
+    io::write_text_file_atomic(out / dir / "tree.json", f.tree_json);
+    io::write_text_file_atomic(out / dir / "result.png", f.result_png);
+  }
+  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
+
+  if (!a.search.quiet) {
+    const trace::SearchStatistics& s = best.statistics;
+    fmt::print("trace: {} ({}x{}, {} pixels set)\n", a.bitmap, target.width(), target.height(),
+               target.count());
+    fmt::print("trace: {} after {} trees evaluated in {:.2f}s ({} thread{}, stopped by {})\n",
+               summary(best.score), s.trees_evaluated, s.seconds, s.threads,
+               s.threads == 1 ? "" : "s", s.stopped_by ? s.stopped_by : "?");
+    if (a.runs > 1) {
+      fmt::print("trace: {} runs, {} distinct results\n", a.runs, distinct_files.size());
+    }
+    fmt::print("trace: wrote {}/{{tree.json, result.png, primitives.svg, report.json{}}}\n",
+               out.string(), a.runs > 1 ? ", distinct/" : "");
+  }
+  return 0;
+}
+
+int run_morph(const MorphArgs& a) {
+  if (a.frames < 1 || a.frames > 10000) {
+    throw InputError(fmt::format("--frames: must lie in [1, 10000], got {}", a.frames));
+  }
+  if (a.delay_ms < 0 || a.delay_ms > 600000) {
+    throw InputError(fmt::format("--delay: must lie in [0, 600000] ms, got {}", a.delay_ms));
+  }
+  const trace::Rotation rotation = a.rotation == "cw"    ? trace::Rotation::kClockwise
+                                   : a.rotation == "ccw" ? trace::Rotation::kCounterClockwise
+                                                         : trace::Rotation::kShortest;
+  const SearchOptions options = search_options(a.search);
+  const Bitmap first = trace::read_bitmap(a.first);
+  const Bitmap second = trace::read_bitmap(a.second);
+  if (first.width() != second.width() || first.height() != second.height()) {
+    throw InputError(fmt::format(
+        "{}: {}x{} pixels, but {} is {}x{} (morph needs bitmaps of the "
+        "same size)",
+        a.second, second.width(), second.height(), a.first, first.width(), first.height()));
+  }
+  const fs::path out(a.out_dir);
+  prepare_output_dir(out);
+
+  const trace::MorphResult m = trace::search_morph(first, second, options);
+  const int width = first.width(), height = first.height();
+  const trace::MorphInterpolator morph(m.first, m.second, rotation);
+  const int scale = trace::display_scale(width, height);
+  const std::vector<Bitmap> frames = morph.frames(a.frames, width, height);
+  std::vector<std::vector<std::uint8_t>> images;
+  images.reserve(frames.size());
+  for (const Bitmap& f : frames) images.push_back(trace::indexed_image(f, scale, 0, 1));
+  const std::vector<std::array<std::uint8_t, 3>> palette{
+      {trace::kOutsideRgb[0], trace::kOutsideRgb[1], trace::kOutsideRgb[2]},
+      {trace::kInsideRgb[0], trace::kInsideRgb[1], trace::kInsideRgb[2]}};
+  const std::string gif =
+      trace::encode_gif(images, width * scale, height * scale, palette, a.delay_ms);
+  const int digits = std::max(3, static_cast<int>(std::to_string(a.frames - 1).size()));
+
+  json report;
+  report["format"] = "fuzzycsg-trace-report";
+  report["version"] = 1;
+  report["verb"] = "morph";
+  report["command_line"] = command_line();
+  report["first_bitmap"] = bitmap_json(a.first, first);
+  report["second_bitmap"] = bitmap_json(a.second, second);
+  json settings = settings_json(options);
+  settings["frames"] = a.frames;
+  settings["rotation"] = a.rotation;
+  settings["delay_ms"] = a.delay_ms;
+  report["settings"] = settings;
+  report["score"] = m.score;
+  report["first"] = score_json(m.first_score, m.first);
+  report["second"] = score_json(m.second_score, m.second);
+  int changed = 0;
+  const std::vector<int> leaves = m.first.empty() ? std::vector<int>{} : m.first.leaves();
+  for (const int leaf : leaves) {
+    if (m.first.primitive(leaf).shape != m.second.primitive(leaf).shape) ++changed;
+  }
+  report["primitives"] = leaves.size();
+  report["shape_changes"] = changed;
+  report["statistics"] = statistics_json(m.statistics);
+  json frame_list = json::array();
+  for (int i = 0; i < a.frames; ++i) {
+    frame_list.push_back({{"file", fmt::format("frames/frame_{:0{}}.png", i, digits)},
+                          {"t", a.frames <= 1 ? 0.0 : static_cast<double>(i) / (a.frames - 1)},
+                          {"pixels_set", frames[static_cast<std::size_t>(i)].count()}});
+  }
+  report["frames"] = frame_list;
+
+  io::write_text_file_atomic(out / "first.json", trace::to_tree_json(m.first, width, height));
+  io::write_text_file_atomic(out / "second.json", trace::to_tree_json(m.second, width, height));
+  const fs::path frame_dir = out / "frames";
+  std::error_code ec;
+  fs::create_directories(frame_dir, ec);
+  if (ec) {
+    throw InputError(
+        fmt::format("{}: cannot create directory ({})", frame_dir.string(), ec.message()));
+  }
+  // Frames of an earlier, longer morph would be mistaken for this one's.
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(frame_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("frame_") && entry.path().extension() == ".png") {
+      stale.push_back(entry.path());
+    }
+  }
+  for (const fs::path& p : stale) fs::remove(p, ec);
+  for (int i = 0; i < a.frames; ++i) {
+    io::write_text_file_atomic(frame_dir / fmt::format("frame_{:0{}}.png", i, digits),
+                               trace::bitmap_png(frames[static_cast<std::size_t>(i)], scale));
+  }
+  io::write_text_file_atomic(out / "morph.gif", gif);
+  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
+
+  if (!a.search.quiet) {
+    fmt::print("morph: {} -> {} ({}x{})\n", a.first, a.second, width, height);
+    fmt::print("morph: first {}\n", summary(m.first_score));
+    fmt::print("morph: second {}\n", summary(m.second_score));
+    fmt::print("morph: {} leaves, {} change shape; {} trees evaluated in {:.2f}s (stopped by {})\n",
+               leaves.size(), changed, m.statistics.trees_evaluated, m.statistics.seconds,
+               m.statistics.stopped_by ? m.statistics.stopped_by : "?");
+    fmt::print(
+        "morph: wrote {}/{{first.json, second.json, report.json, morph.gif, frames/ ({} "
+        "frames)}}\n",
+        out.string(), a.frames);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Verb register_trace(CLI::App& app) {
+  auto a = std::make_shared<TraceArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "trace", "Trace a bitmap as a CSG tree of circles and rectangles (Gibson et al. 1997)");
+  cmd->add_option("bitmap", a->bitmap, "Picture (.png .jpg .pbm .pgm ...; dark is inside)")
+      ->required();
+  cmd->add_option("-o,--output", a->out_dir, "Output directory")->required();
+  add_search_options(cmd, a->search);
+  cmd->add_option("--runs", a->runs,
+                  "Independent runs (seeds seed, seed + 1, ...); > 1 keeps the distinct results")
+      ->capture_default_str();
+  cmd->add_option("--min-difference", a->min_difference,
+                  "--runs: share of the pixels by which results must differ to be distinct")
+      ->capture_default_str();
+  return {cmd, [a] { return run_trace(*a); }};
+}
+
+Verb register_morph(CLI::App& app) {
+  auto a = std::make_shared<MorphArgs>();
+  a->search.options.initial_size = 5.0;  // the paper's a for morphing
+  CLI::App* cmd = app.add_subcommand(
+      "morph", "Morph between two bitmaps through two CSG trees of the same structure");
+  cmd->add_option("first", a->first, "First picture")->required();
+  cmd->add_option("second", a->second, "Second picture (the same size)")->required();
+  cmd->add_option("-o,--output", a->out_dir, "Output directory")->required();
+  add_search_options(cmd, a->search);
+  cmd->add_option("--frames", a->frames, "Frames from t = 0 to t = 1 inclusive")
+      ->capture_default_str();
+  cmd->add_option("--rotation", a->rotation,
+                  "Rectangles turn the shortest way (modulo 180 degrees), cw or ccw")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"shortest", "cw", "ccw"}));
+  cmd->add_option("--delay", a->delay_ms, "Milliseconds per frame of morph.gif")
+      ->capture_default_str();
+  return {cmd, [a] { return run_morph(*a); }};
+}
+
+}  // namespace fuzzycsg::app
