@@ -253,10 +253,11 @@ struct TreeFiles {
 TreeFiles tree_files(const CsgTree& tree, const Bitmap& target, bool svg) {
   const trace::TreeEvaluator e(tree, target.width(), target.height());
   const int scale = trace::display_scale(target.width(), target.height());
+  const int svg_scale = trace::display_scale(target.width(), target.height(), 512);
   TreeFiles f;
   f.tree_json = trace::to_tree_json(tree, target.width(), target.height());
   f.result_png = trace::result_png(e.result(), target, scale);
-  if (svg) f.primitives_svg = trace::primitives_svg(tree, e.result(), target, scale);
+  if (svg) f.primitives_svg = trace::primitives_svg(tree, e.result(), target, svg_scale);
   return f;
 }
 
