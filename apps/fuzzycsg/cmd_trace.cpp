@@ -195,7 +195,7 @@ json settings_json(const SearchOptions& o) {
   j["local"] = {{"margin", o.local.margin},       {"shift_step", o.local.shift_step},
                 {"size_step", o.local.size_step}, {"angle_step", o.local.angle_step},
                 {"min_size", o.local.min_size},   {"max_steps", o.local.max_steps},
-                {"prune", o.local.prune}};
+                {"prune", o.local.prune},         {"trust_settled", o.local.trust_settled}};
   j["threads"] = o.threads;
   j["batch"] = o.batch;
   j["time_limit"] = o.time_limit;

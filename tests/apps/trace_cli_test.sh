@@ -49,9 +49,11 @@ if r["primitives"] < 1:
     problems.append("no primitives")
 if r["k"] != r["settings"]["k"]:
     problems.append("k differs from the settings'")
-if s["stopped_by"] not in ("max-trees", "patience", "time-limit"):
+if s["stopped_by"] not in ("max-trees", "patience", "time-limit", "empty"):
     problems.append("stopped_by " + str(s["stopped_by"]))
-if s["trees_evaluated"] < 1 or s["tree_evaluations"] < s["trees_evaluated"]:
+# An empty picture is answered without a search ("empty").
+if s["trees_evaluated"] < 1 or (s["stopped_by"] != "empty" and
+                                s["tree_evaluations"] < s["trees_evaluated"]):
     problems.append("trees evaluated / tree evaluations")
 if not (0 <= s["best_found_at"] <= s["trees_evaluated"]):
     problems.append("best_found_at")
@@ -174,6 +176,7 @@ done
 # The empty picture: the tree covers nothing; the full one: something.
 if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["excess"] == 0 and r["uncovered"] == 0' \
     "$tmp/out_white/report.json" 2>/dev/null; then ok; else bad "empty bitmap: not an empty result"; fi
+if grep -q '"stopped_by": "empty"' "$tmp/out_white/report.json"; then ok; else bad "empty bitmap: stopped_by"; fi
 if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["bitmap"]["pixels_set"] == 24 * 16
 assert r["uncovered"] < 24 * 16' "$tmp/out_black/report.json" 2>/dev/null; then ok; else
   bad "full bitmap: nothing covered"
@@ -186,8 +189,8 @@ if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); n=r["bitmap"]["p
 expect_error "corrupt.png" "$bin" trace "$tmp/corrupt.png" -o "$tmp/bad1" "${tiny[@]}"
 expect_error "no-such.png" "$bin" trace "$tmp/no-such.png" -o "$tmp/bad2" "${tiny[@]}"
 expect_error "huge.png.*too large" "$bin" trace "$tmp/huge.png" -o "$tmp/bad3" "${tiny[@]}"
-expect_error "population" "$bin" trace "$tmp/disc.png" -o "$tmp/bad4" --population 0
-expect_error "k" "$bin" trace "$tmp/disc.png" -o "$tmp/bad5" --k -1
+expect_error "search option population .*: must be at least 1" "$bin" trace "$tmp/disc.png" -o "$tmp/bad4" --population 0
+expect_error "search option k: must be finite and >= 0" "$bin" trace "$tmp/disc.png" -o "$tmp/bad5" --k -1
 expect_error "--probabilities: all four are zero" "$bin" trace "$tmp/disc.png" -o "$tmp/bad6" \
   --probabilities 0,0,0,0
 expect_error "--probabilities: expected four numbers" "$bin" trace "$tmp/disc.png" -o "$tmp/bad7" \
