@@ -30,32 +30,6 @@ void put(std::vector<unsigned char>& px, std::size_t i, const unsigned char (&c)
   px[3 * i + 2] = c[2];
 }
 
-std::string base64(std::string_view bytes) {
-  static constexpr char kDigits[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
-                       (static_cast<unsigned char>(bytes[i + 1]) << 8) |
-                       static_cast<unsigned char>(bytes[i + 2]);
-    out += kDigits[(v >> 18) & 63];
-    out += kDigits[(v >> 12) & 63];
-    out += kDigits[(v >> 6) & 63];
-    out += kDigits[v & 63];
-  }
-  if (i < bytes.size()) {
-    unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-    out += kDigits[(v >> 18) & 63];
-    out += kDigits[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kDigits[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
 void check_sizes(const Bitmap& a, const Bitmap& b) {
   if (a.width() != b.width() || a.height() != b.height() || a.empty()) {
     throw std::invalid_argument("trace pictures: result and target differ in size");
@@ -145,32 +119,30 @@ std::string primitives_svg(const CsgTree& tree, const Bitmap& result, const Bitm
   check_sizes(result, target);
   scale = std::max(scale, 1);
   const int W = result.width(), H = result.height();
-  // The pixels: target light grey under the result's translucent dark grey (RGBA, one pixel per
-  // bitmap pixel, drawn without smoothing).
-  std::vector<unsigned char> px(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) * 4);
-  for (int row = 0; row < H; ++row) {
-    for (int col = 0; col < W; ++col) {
-      unsigned char* p = px.data() + 4 * (static_cast<std::size_t>(row) * W + col);
-      const bool t = target.get(col, row), r = result.get(col, row);
-      const unsigned char base = t ? 205 : 255;
-      if (r) {
-        // 45% of (60, 60, 70) over the base.
-        p[0] = static_cast<unsigned char>(std::lround(0.55 * base + 0.45 * 60));
-        p[1] = static_cast<unsigned char>(std::lround(0.55 * base + 0.45 * 60));
-        p[2] = static_cast<unsigned char>(std::lround(0.55 * base + 0.45 * 70));
-      } else {
-        p[0] = p[1] = p[2] = base;
-      }
-      p[3] = 255;
-    }
-  }
-  const std::string png = encode_png(W, H, 4, px);
 
   const double unit = std::max(W, H) / 100.0;  // one hundredth of the picture
   const double font = std::max(2.0, 3.5 * unit);
-  const int legend_rows = 3;
-  const double line = 1.3 * font;
-  const double legend_h = legend_rows * line + 0.5 * font;
+  const double small = 0.8 * font;
+  // The expression wrapped at about the picture's width, at most four lines.
+  std::vector<std::string> lines;
+  {
+    const std::vector<int> count = tree.empty() ? std::vector<int>{} : tree.leaves();
+    std::string text = fmt::format("{} primitive{}: {}", count.size(), count.size() == 1 ? "" : "s",
+                                   expression(tree));
+    const std::size_t width = static_cast<std::size_t>(std::max(16.0, W / (0.52 * small)));
+    while (!text.empty() && lines.size() < 4) {
+      std::size_t cut = text.size() <= width ? text.size() : text.rfind(' ', width);
+      if (cut == std::string::npos || cut == 0) cut = std::min(width, text.size());
+      lines.push_back(text.substr(0, cut));
+      text = cut < text.size() ? text.substr(cut + 1) : std::string();
+    }
+    if (!text.empty()) lines.back() += " ...";
+  }
+  lines.push_back("solid: added, dashed: subtracted");
+  lines.push_back("light grey: target, dark: result");
+  const double line = 1.3 * small;
+  const double legend_h = static_cast<double>(lines.size()) * line + 0.8 * font;
+
   std::string s;
   s += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   s += fmt::format(
@@ -178,13 +150,35 @@ std::string primitives_svg(const CsgTree& tree, const Bitmap& result, const Bitm
       "viewBox=\"0 0 {} {:.3f}\">\n",
       W * scale, static_cast<int>(std::lround((H + legend_h) * scale)), W, H + legend_h);
   s += "<title>traced primitives</title>\n";
+  s += fmt::format(
+      "<defs><clipPath id=\"picture\"><rect x=\"0\" y=\"0\" width=\"{}\" "
+      "height=\"{}\"/></clipPath></defs>\n",
+      W, H);
   s += fmt::format("<rect x=\"0\" y=\"0\" width=\"{}\" height=\"{:.3f}\" fill=\"white\"/>\n", W,
                    H + legend_h);
+  // The pixels as runs of set pixels in each row: the target light grey, the result a
+  // translucent dark grey over it.
+  const auto runs = [&](const Bitmap& b) {
+    std::string d;
+    for (int row = 0; row < H; ++row) {
+      int col = 0;
+      while (col < W) {
+        while (col < W && !b.get(col, row)) ++col;
+        const int start = col;
+        while (col < W && b.get(col, row)) ++col;
+        if (col > start) d += fmt::format("M{} {}h{}v1h-{}z", start, row, col - start, col - start);
+      }
+    }
+    return d;
+  };
   s += fmt::format(
-      "<image class=\"pixels\" x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" "
-      "preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" "
-      "href=\"data:image/png;base64,{}\"/>\n",
-      W, H, base64(png));
+      "<path class=\"target\" fill=\"#d0d0d0\" shape-rendering=\"crispEdges\" "
+      "d=\"{}\"/>\n",
+      runs(target));
+  s += fmt::format(
+      "<path class=\"result\" fill=\"#303040\" fill-opacity=\"0.45\" "
+      "shape-rendering=\"crispEdges\" d=\"{}\"/>\n",
+      runs(result));
   s += fmt::format(
       "<rect x=\"0\" y=\"0\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#999\" "
       "stroke-width=\"1\" vector-effect=\"non-scaling-stroke\"/>\n",
@@ -192,29 +186,30 @@ std::string primitives_svg(const CsgTree& tree, const Bitmap& result, const Bitm
 
   const std::vector<int> leaves = tree.empty() ? std::vector<int>{} : tree.leaves();
   const std::vector<int> polarity = leaf_polarity(tree);
-  s += "<g fill=\"none\" stroke-width=\"2\">\n";
+  s += fmt::format("<g clip-path=\"url(#picture)\" fill=\"none\" stroke-width=\"{:.3f}\">\n",
+                   0.5 * unit);
+  const std::string dashed =
+      fmt::format(" stroke-dasharray=\"{:.3f} {:.3f}\"", 3.0 * unit, 2.0 * unit);
   for (std::size_t k = 0; k < leaves.size(); ++k) {
     const Primitive& p = tree.primitive(leaves[k]);
     const char* colour = kPalette[k % kPalette.size()];
-    const char* dash = polarity[k] < 0    ? " stroke-dasharray=\"6 4\""
-                       : polarity[k] == 0 ? " stroke-dasharray=\"2 3\""
-                                          : "";
+    const std::string dash = polarity[k] < 0 ? dashed : std::string();
     const char* role = polarity[k] < 0 ? "subtracted" : polarity[k] == 0 ? "intersected" : "added";
     if (p.shape == Shape::kCircle) {
       s += fmt::format(
           "<circle class=\"primitive {}\" id=\"p{}\" cx=\"{:.3f}\" cy=\"{:.3f}\" r=\"{:.3f}\" "
-          "stroke=\"{}\"{} vector-effect=\"non-scaling-stroke\"/>\n",
+          "stroke=\"{}\"{}/>\n",
           role, k + 1, p.x, p.y, p.r, colour, dash);
     } else {
       s += fmt::format(
           "<rect class=\"primitive {}\" id=\"p{}\" x=\"{:.3f}\" y=\"{:.3f}\" width=\"{:.3f}\" "
           "height=\"{:.3f}\" transform=\"translate({:.3f} {:.3f}) rotate({:.3f})\" "
-          "stroke=\"{}\"{} vector-effect=\"non-scaling-stroke\"/>\n",
+          "stroke=\"{}\"{}/>\n",
           role, k + 1, -p.w / 2, -p.h / 2, p.w, p.h, p.x, p.y, p.theta, colour, dash);
     }
   }
   s += "</g>\n";
-  // The numbers at the centres, with a white halo.
+  // The numbers at the centres (kept inside the picture), with a white halo.
   s += fmt::format(
       "<g font-family=\"sans-serif\" font-size=\"{:.3f}\" font-weight=\"bold\" "
       "text-anchor=\"middle\" dominant-baseline=\"central\" stroke=\"white\" "
@@ -222,31 +217,20 @@ std::string primitives_svg(const CsgTree& tree, const Bitmap& result, const Bitm
       font, font / 5);
   for (std::size_t k = 0; k < leaves.size(); ++k) {
     const Primitive& p = tree.primitive(leaves[k]);
-    s += fmt::format("<text x=\"{:.3f}\" y=\"{:.3f}\" fill=\"{}\">{}</text>\n", p.x, p.y,
+    const double x = std::clamp(p.x, font / 2, W - font / 2);
+    const double y = std::clamp(p.y, font / 2, H - font / 2);
+    s += fmt::format("<text x=\"{:.3f}\" y=\"{:.3f}\" fill=\"{}\">{}</text>\n", x, y,
                      kPalette[k % kPalette.size()], k + 1);
   }
   s += "</g>\n";
 
-  std::string expr = expression(tree);
-  const std::size_t max_chars = static_cast<std::size_t>(std::max(20.0, 1.8 * W / font));
-  if (expr.size() > max_chars) expr = expr.substr(0, max_chars - 3) + "...";
-  std::string escaped;
-  for (const char c : expr) escaped += c == '&' ? std::string("&amp;") : std::string(1, c);
-  const double y0 = H + 0.5 * font;
-  s += fmt::format("<g font-family=\"sans-serif\" font-size=\"{:.3f}\" fill=\"#333\">\n",
-                   font * 0.8);
-  s += fmt::format(
-      "<text x=\"{:.3f}\" y=\"{:.3f}\" dominant-baseline=\"hanging\">{} "
-      "primitive{}: {}</text>\n",
-      font * 0.3, y0, leaves.size(), leaves.size() == 1 ? "" : "s", escaped);
-  s += fmt::format(
-      "<text x=\"{:.3f}\" y=\"{:.3f}\" dominant-baseline=\"hanging\">solid: added, dashed: "
-      "subtracted, dotted: intersected</text>\n",
-      font * 0.3, y0 + line);
-  s += fmt::format(
-      "<text x=\"{:.3f}\" y=\"{:.3f}\" dominant-baseline=\"hanging\">grey: target, dark: "
-      "result</text>\n",
-      font * 0.3, y0 + 2 * line);
+  s += fmt::format("<g font-family=\"sans-serif\" font-size=\"{:.3f}\" fill=\"#333\">\n", small);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::string escaped;
+    for (const char c : lines[i]) escaped += c == '&' ? std::string("&amp;") : std::string(1, c);
+    s += fmt::format("<text x=\"{:.3f}\" y=\"{:.3f}\" dominant-baseline=\"hanging\">{}</text>\n",
+                     font * 0.3, H + 0.5 * font + static_cast<double>(i) * line, escaped);
+  }
   s += "</g>\n</svg>\n";
   return s;
 }

@@ -229,7 +229,8 @@ TEST(TracePictures, ExpressionPolarityAndPictures) {
   EXPECT_NE(svg.find("<rect class=\"primitive added\" id=\"p2\""), std::string::npos);
   EXPECT_NE(svg.find("class=\"primitive subtracted\" id=\"p3\""), std::string::npos);
   EXPECT_NE(svg.find("rotate(30.000)"), std::string::npos);
-  EXPECT_NE(svg.find("data:image/png;base64,"), std::string::npos);
+  EXPECT_NE(svg.find("<path class=\"target\""), std::string::npos);
+  EXPECT_NE(svg.find("M0 10h32v1h-32z"), std::string::npos);  // the target's one row
   EXPECT_NE(svg.find("(1 | 2) - 3"), std::string::npos);
   EXPECT_THROW(result_png(e.result(), Bitmap(3, 3), 1), std::invalid_argument);
 }

@@ -24,10 +24,11 @@ std::string result_png(const Bitmap& result, const Bitmap& target, int scale);
 std::string bitmap_png(const Bitmap& b, int scale);
 
 // An SVG of the target (light grey pixels), the result (translucent dark pixels over it) and
-// every primitive's outline in pixel coordinates, numbered 1, 2, ... in leaf order, in a colour
-// of its own: solid when it adds to the shape, dashed when it is subtracted (on the right of
-// an odd number of differences), dotted when it only intersects. A legend below gives the tree
-// as an expression of those numbers. Drawn `scale` screen pixels per bitmap pixel.
+// every primitive's outline in pixel coordinates (clipped to the picture), numbered 1, 2, ...
+// in leaf order, in a colour of its own: dashed when it is subtracted (on the right of an odd
+// number of differences), solid otherwise; each outline's class says "added", "subtracted" or
+// "intersected" (leaf_polarity). A legend below gives the tree as an expression of those
+// numbers. Drawn `scale` screen pixels per bitmap pixel.
 std::string primitives_svg(const CsgTree& tree, const Bitmap& result, const Bitmap& target,
                            int scale);
 
