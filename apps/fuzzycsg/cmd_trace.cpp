@@ -162,6 +162,29 @@ void prepare_output_dir(const fs::path& dir) {
   fs::remove(probe, ec);
 }
 
+// The distinct results of an earlier run with more of them (OUTDIR/distinct/NN beyond `keep`):
+// their files, and the folders when nothing else is left in them.
+void remove_stale_distinct(const fs::path& out, std::size_t keep) {
+  const fs::path root = out / "distinct";
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) return;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(root, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() < 2 || name.size() > 9 ||
+        name.find_first_not_of("0123456789") != std::string::npos) {
+      continue;
+    }
+    if (std::stoul(name) > keep) stale.push_back(entry.path());
+  }
+  for (const fs::path& dir : stale) {
+    fs::remove(dir / "tree.json", ec);
+    fs::remove(dir / "result.png", ec);
+    fs::remove(dir, ec);  // only when empty
+  }
+  fs::remove(root, ec);  // only when empty
+}
+
 double rate(std::uint64_t improved, std::uint64_t tried) {
   return tried > 0 ? static_cast<double>(improved) / static_cast<double>(tried) : 0.0;
 }
@@ -330,6 +353,7 @@ int run_trace(const TraceArgs& a) {
   io::write_text_file_atomic(out / "tree.json", files.tree_json);
   io::write_text_file_atomic(out / "result.png", files.result_png);
   io::write_text_file_atomic(out / "primitives.svg", files.primitives_svg);
+  remove_stale_distinct(out, distinct_files.size());
   for (const auto& [dir, f] : distinct_files) {
     std::error_code ec;
     fs::create_directories(out / dir, ec);

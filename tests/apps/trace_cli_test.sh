@@ -132,6 +132,9 @@ assert scores == sorted(scores), "distinct not sorted"
 assert abs(r["score"] - scores[0]) < 1e-9, "best"
 PY
     then ok; else bad "trace --runs report"; fi
+    # One run into the same directory: the distinct results of the earlier runs go.
+    if "$bin" trace "$glyph" -o "$tmp/v" "${small[@]}" --threads 2 -q && [[ ! -e "$tmp/v/distinct" ]] &&
+        ! grep -q '"distinct"' "$tmp/v/report.json"; then ok; else bad "trace: stale distinct/ results"; fi
   else
     bad "trace --runs: $(cat "$tmp/err")"
   fi
