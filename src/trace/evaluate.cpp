@@ -148,12 +148,18 @@ LocalMismatch local_mismatch(const Bitmap& tree, const Bitmap& target, const Pix
       const std::uint64_t e = a[wi] & ~b[wi] & range, u = b[wi] & ~a[wi] & range;
       const auto sums = [&](std::uint64_t bits, std::int64_t& count, double& sx, double& sy) {
         const int n = std::popcount(bits);
+        if (n == 0) return;
         count += n;
         sy += n * (j + 0.5);
-        while (bits) {
-          sx += base + std::countr_zero(bits) + 0.5;
-          bits &= bits - 1;
-        }
+        // The sum of the set bits' indices, bit by bit of the index.
+        int index_sum = 0;
+        index_sum += std::popcount(bits & 0xaaaaaaaaaaaaaaaaull);
+        index_sum += 2 * std::popcount(bits & 0xccccccccccccccccull);
+        index_sum += 4 * std::popcount(bits & 0xf0f0f0f0f0f0f0f0ull);
+        index_sum += 8 * std::popcount(bits & 0xff00ff00ff00ff00ull);
+        index_sum += 16 * std::popcount(bits & 0xffff0000ffff0000ull);
+        index_sum += 32 * std::popcount(bits & 0xffffffff00000000ull);
+        sx += n * (base + 0.5) + index_sum;
       };
       sums(e, m.excess, ex, ey);
       sums(u, m.uncovered, ux, uy);

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
-#include <unordered_set>
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
@@ -192,7 +191,7 @@ class Optimizer {
   // the current one only falls: a candidate that failed, or a state the leaf has left, would
   // fail again. Those are remembered and not evaluated again.
   bool attempt(int leaf, const Primitive& p) {
-    if (!failed_.insert(key(p)).second) return false;
+    if (!failed_.insert(key(p))) return false;
     const PixelBox box = pixel_box(p, ev_.width(), ev_.height());
     read_ = read_.joined(box);
     const std::int64_t v = leaf_value(context_, p, box);
@@ -428,14 +427,57 @@ class Optimizer {
             std::bit_cast<std::uint64_t>(circle ? 0.0 : p.h),
             std::bit_cast<std::uint64_t>(circle ? 0.0 : p.theta)};
   }
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
+  // An open-addressing set of keys, emptied in O(1) by a generation stamp.
+  class KeySet {
+   public:
+    void clear() {
+      ++generation_;
+      count_ = 0;
+      if (generation_ == 0) {  // wrapped: forget every stamp
+        std::fill(stamp_.begin(), stamp_.end(), 0u);
+        generation_ = 1;
+      }
+    }
+    // Whether `k` was not in the set (and is now).
+    bool insert(const Key& k) {
+      if (2 * (count_ + 1) > keys_.size()) grow();
+      const std::size_t mask = keys_.size() - 1;
+      for (std::size_t i = hash(k) & mask;; i = (i + 1) & mask) {
+        if (stamp_[i] != generation_) {
+          stamp_[i] = generation_;
+          keys_[i] = k;
+          ++count_;
+          return true;
+        }
+        if (keys_[i] == k) return false;
+      }
+    }
+
+   private:
+    static std::size_t hash(const Key& k) {
       std::uint64_t h = 0x9e3779b97f4a7c15ull;
       for (const std::uint64_t v : k) h = (h ^ v) * 0xff51afd7ed558ccdull;
-      return static_cast<std::size_t>(h ^ (h >> 32));
+      return static_cast<std::size_t>(h ^ (h >> 29));
     }
+    void grow() {
+      std::vector<Key> old_keys = std::move(keys_);
+      std::vector<std::uint32_t> old_stamp = std::move(stamp_);
+      const std::size_t size = std::max<std::size_t>(256, 2 * old_keys.size());
+      keys_.assign(size, Key{});
+      stamp_.assign(size, 0u);
+      const std::uint32_t g = generation_;
+      generation_ = 1;
+      count_ = 0;
+      for (std::size_t i = 0; i < old_keys.size(); ++i) {
+        if (old_stamp[i] == g) insert(old_keys[i]);
+      }
+    }
+    std::vector<Key> keys_;
+    std::vector<std::uint32_t> stamp_;
+    std::uint32_t generation_ = 1;
+    std::size_t count_ = 0;
   };
-  std::unordered_set<Key, KeyHash> failed_;
+  KeySet failed_;
 };
 
 }  // namespace
