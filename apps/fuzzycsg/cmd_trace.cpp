@@ -408,16 +408,43 @@ int run_morph(const MorphArgs& a) {
   const int width = first.width(), height = first.height();
   const trace::MorphInterpolator morph(m.first, m.second, rotation);
   const int scale = trace::display_scale(width, height);
-  const std::vector<Bitmap> frames = morph.frames(a.frames, width, height);
-  std::vector<std::vector<std::uint8_t>> images;
-  images.reserve(frames.size());
-  for (const Bitmap& f : frames) images.push_back(trace::indexed_image(f, scale, 0, 1));
+  const int digits = std::max(3, static_cast<int>(std::to_string(a.frames - 1).size()));
+  const auto frame_t = [&](int i) {
+    return a.frames <= 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(a.frames - 1);
+  };
+
+  const fs::path frame_dir = out / "frames";
+  std::error_code ec;
+  fs::create_directories(frame_dir, ec);
+  if (ec) {
+    throw InputError(
+        fmt::format("{}: cannot create directory ({})", frame_dir.string(), ec.message()));
+  }
+  // Frames of an earlier, longer morph would be mistaken for this one's.
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(frame_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("frame_") && entry.path().extension() == ".png") {
+      stale.push_back(entry.path());
+    }
+  }
+  for (const fs::path& p : stale) fs::remove(p, ec);
+
+  // One frame at a time (a large picture's frames would not all fit): rasterised, written as
+  // frames/frame_NNN.png and handed to the GIF encoder.
   const std::vector<std::array<std::uint8_t, 3>> palette{
       {trace::kOutsideRgb[0], trace::kOutsideRgb[1], trace::kOutsideRgb[2]},
       {trace::kInsideRgb[0], trace::kInsideRgb[1], trace::kInsideRgb[2]}};
+  json frame_list = json::array();
   const std::string gif =
-      trace::encode_gif(images, width * scale, height * scale, palette, a.delay_ms);
-  const int digits = std::max(3, static_cast<int>(std::to_string(a.frames - 1).size()));
+      trace::encode_gif(a.frames, width * scale, height * scale, palette, a.delay_ms, [&](int i) {
+        const Bitmap f = morph.frame(frame_t(i), width, height);
+        const std::string name = fmt::format("frame_{:0{}}.png", i, digits);
+        io::write_text_file_atomic(frame_dir / name, trace::bitmap_png(f, scale));
+        frame_list.push_back(
+            {{"file", "frames/" + name}, {"t", frame_t(i)}, {"pixels_set", f.count()}});
+        return trace::indexed_image(f, scale, 0, 1);
+      });
 
   json report;
   report["format"] = "fuzzycsg-trace-report";
@@ -442,36 +469,10 @@ int run_morph(const MorphArgs& a) {
   report["primitives"] = leaves.size();
   report["shape_changes"] = changed;
   report["statistics"] = statistics_json(m.statistics);
-  json frame_list = json::array();
-  for (int i = 0; i < a.frames; ++i) {
-    frame_list.push_back({{"file", fmt::format("frames/frame_{:0{}}.png", i, digits)},
-                          {"t", a.frames <= 1 ? 0.0 : static_cast<double>(i) / (a.frames - 1)},
-                          {"pixels_set", frames[static_cast<std::size_t>(i)].count()}});
-  }
   report["frames"] = frame_list;
 
   io::write_text_file_atomic(out / "first.json", trace::to_tree_json(m.first, width, height));
   io::write_text_file_atomic(out / "second.json", trace::to_tree_json(m.second, width, height));
-  const fs::path frame_dir = out / "frames";
-  std::error_code ec;
-  fs::create_directories(frame_dir, ec);
-  if (ec) {
-    throw InputError(
-        fmt::format("{}: cannot create directory ({})", frame_dir.string(), ec.message()));
-  }
-  // Frames of an earlier, longer morph would be mistaken for this one's.
-  std::vector<fs::path> stale;
-  for (const auto& entry : fs::directory_iterator(frame_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.starts_with("frame_") && entry.path().extension() == ".png") {
-      stale.push_back(entry.path());
-    }
-  }
-  for (const fs::path& p : stale) fs::remove(p, ec);
-  for (int i = 0; i < a.frames; ++i) {
-    io::write_text_file_atomic(frame_dir / fmt::format("frame_{:0{}}.png", i, digits),
-                               trace::bitmap_png(frames[static_cast<std::size_t>(i)], scale));
-  }
   io::write_text_file_atomic(out / "morph.gif", gif);
   io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
 

@@ -223,6 +223,18 @@ std::string gif_error(const char* what, int code) {
 
 std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int width, int height,
                        std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms) {
+  const std::size_t pixels =
+      static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0));
+  for (const auto& f : frames) {
+    if (f.size() != pixels) throw std::invalid_argument("GIF encoding: a frame of the wrong size");
+  }
+  return encode_gif(static_cast<int>(frames.size()), width, height, palette, delay_ms,
+                    [&](int i) { return frames[static_cast<std::size_t>(i)]; });
+}
+
+std::string encode_gif(int count, int width, int height,
+                       std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms,
+                       const std::function<std::vector<std::uint8_t>(int)>& frame) {
   if (width < 1 || height < 1 || width > 65535 || height > 65535) {
     throw std::invalid_argument("GIF encoding: bad picture size");
   }
@@ -230,9 +242,6 @@ std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int wi
     throw std::invalid_argument("GIF encoding: the palette has 1 to 256 colours");
   }
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  for (const auto& f : frames) {
-    if (f.size() != pixels) throw std::invalid_argument("GIF encoding: a frame of the wrong size");
-  }
   // The colour table: a power of two of at least 2 entries.
   int bits = 1;
   while ((std::size_t{1} << bits) < palette.size()) ++bits;
@@ -275,7 +284,12 @@ std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int wi
   GifByteType control[4];
   EGifGCBToExtension(&gcb, control);
   std::vector<GifPixelType> line(static_cast<std::size_t>(width));
-  for (const auto& f : frames) {
+  for (int i = 0; i < count; ++i) {
+    const std::vector<std::uint8_t> f = frame(i);
+    if (f.size() != pixels) {
+      EGifCloseFile(gif, &error);
+      throw std::invalid_argument("GIF encoding: a frame of the wrong size");
+    }
     if (EGifPutExtension(gif, GRAPHICS_EXT_FUNC_CODE, sizeof control, control) == GIF_ERROR ||
         EGifPutImageDesc(gif, 0, 0, width, height, false, nullptr) == GIF_ERROR) {
       fail("frame");

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -86,5 +87,10 @@ std::vector<std::uint8_t> indexed_image(const Bitmap& b, int scale, std::uint8_t
 // most 256 colours. Throws std::runtime_error if giflib fails.
 std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int width, int height,
                        std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms);
+// The same with the frames made one at a time by frame(i), i = 0 .. count - 1 (so that only one
+// is held at a time).
+std::string encode_gif(int count, int width, int height,
+                       std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms,
+                       const std::function<std::vector<std::uint8_t>(int)>& frame);
 
 }  // namespace fuzzycsg::trace
