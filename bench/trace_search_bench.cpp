@@ -34,8 +34,9 @@ double median(std::vector<double> v) {
 int glyph_table(int threads) {
   const std::filesystem::path dir =
       std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/glyphs";
-  std::printf("| glyph | seed | score | excess | uncovered | primitives | trees evaluated | "
-              "best at | evaluations | s |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| glyph | seed | score | excess | uncovered | primitives | trees evaluated | "
+      "best at | evaluations | s |\n|---|---|---|---|---|---|---|---|---|---|\n");
   double total = 0;
   for (const char* g : {"U0050_P", "U0045_E", "U0062_b", "U0069_i"}) {
     const Bitmap target = read_bitmap(dir / (std::string("DejaVuSans-Bold_") + g + ".png"));
@@ -48,9 +49,8 @@ int glyph_table(int threads) {
       total += r.score.total();
       std::printf("| %s | %llu | %.0f | %lld | %lld | %d | %llu | %llu | %llu | %.2f |\n", g + 6,
                   static_cast<unsigned long long>(seed), r.score.total(),
-                  static_cast<long long>(r.score.excess),
-                  static_cast<long long>(r.score.uncovered), r.score.primitives,
-                  static_cast<unsigned long long>(s.trees_evaluated),
+                  static_cast<long long>(r.score.excess), static_cast<long long>(r.score.uncovered),
+                  r.score.primitives, static_cast<unsigned long long>(s.trees_evaluated),
                   static_cast<unsigned long long>(s.best_found_at),
                   static_cast<unsigned long long>(s.tree_evaluations), s.seconds);
     }
