@@ -4,6 +4,7 @@
 // tree whatever the number of threads; the bench checks that and prints the ratio.
 //
 //   trace_search_bench [picture] [seed] [runs]
+//   trace_search_bench --glyphs [threads]
 //
 // Defaults: the 128x128 glyph P of ../shared/data/glyphs, seed 1, 3 runs of each (medians).
 #include <algorithm>
@@ -28,7 +29,40 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
+// --glyphs: the search on the paper's letters P, E, b, i (DejaVu Sans Bold), seeds 1 and 2,
+// one thread each: score, primitives, effort and time, a row per run.
+int glyph_table(int threads) {
+  const std::filesystem::path dir =
+      std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/glyphs";
+  std::printf(
+      "| glyph | seed | score | excess | uncovered | primitives | trees evaluated | "
+      "best at | evaluations | s |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  double total = 0;
+  for (const char* g : {"U0050_P", "U0045_E", "U0062_b", "U0069_i"}) {
+    const Bitmap target = read_bitmap(dir / (std::string("DejaVuSans-Bold_") + g + ".png"));
+    for (const std::uint64_t seed : {1u, 2u}) {
+      SearchOptions o;
+      o.seed = seed;
+      o.threads = threads;
+      const SearchResult r = search(target, o);
+      const SearchStatistics& s = r.statistics;
+      total += r.score.total();
+      std::printf("| %s | %llu | %.0f | %lld | %lld | %d | %llu | %llu | %llu | %.2f |\n", g + 6,
+                  static_cast<unsigned long long>(seed), r.score.total(),
+                  static_cast<long long>(r.score.excess), static_cast<long long>(r.score.uncovered),
+                  r.score.primitives, static_cast<unsigned long long>(s.trees_evaluated),
+                  static_cast<unsigned long long>(s.best_found_at),
+                  static_cast<unsigned long long>(s.tree_evaluations), s.seconds);
+    }
+  }
+  std::printf("sum of scores %.0f\n", total);
+  return 0;
+}
+
 int main(int argc, char** argv) {
+  if (argc > 1 && std::string(argv[1]) == "--glyphs") {
+    return glyph_table(argc > 2 ? std::atoi(argv[2]) : 1);
+  }
   const std::filesystem::path picture =
       argc > 1 ? std::filesystem::path(argv[1])
                : std::filesystem::path(FUZZYCSG_SOURCE_DIR) /

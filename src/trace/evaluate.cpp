@@ -44,8 +44,9 @@ TreeEvaluator::TreeEvaluator(const CsgTree& tree, int width, int height)
 const Bitmap& TreeEvaluator::set_tree(const CsgTree& tree) {
   if (tree.empty()) throw Error("TreeEvaluator: empty tree");
   tree_ = tree;
-  masks_.resize(tree_.nodes().size());
-  drawn_.assign(tree_.nodes().size(), PixelBox{});
+  // Bitmaps of slots beyond the tree are kept for later trees.
+  if (masks_.size() < tree_.nodes().size()) masks_.resize(tree_.nodes().size());
+  drawn_.assign(std::max(drawn_.size(), tree_.nodes().size()), PixelBox{});
   return evaluate();
 }
 

@@ -226,9 +226,9 @@ class Optimizer {
   //
   // The pace doubles after every kept step (at most kMaxPace times the base step), so that a
   // primitive far from its place gets there in few steps; a step that does not improve is
-  // tried again at half the pace, down to the base step, and then at twice and four times the
-  // base step (a small step may change no pixel: an edge that moves by less than the distance
-  // to the next pixel centre) before the climb stops.
+  // tried again at half the pace, down to the base step, and then at twice the base step (a
+  // small step may change no pixel: an edge that moves by less than the distance to the next
+  // pixel centre) before the climb stops.
   static constexpr double kMaxPace = 32.0;
   template <class Step>
   int climb(int leaf, double first, Step step) {
@@ -240,7 +240,7 @@ class Optimizer {
         double scales[8];
         int n = 0;
         for (double v = pace; v >= 1.0; v /= 2) scales[n++] = v;
-        for (const double v : {2.0, 4.0}) {
+        for (const double v : {2.0}) {
           if (v > pace) scales[n++] = v;
         }
         for (int k = 0; k < n; ++k) {
@@ -393,9 +393,9 @@ class Optimizer {
  private:
   std::int64_t current_mismatch() const { return score(ev_.result(), target_, 0, o_.k).mismatch(); }
 
-  // How far beyond the primitive's box the first step of any adjustment can reach: shifts and
-  // size changes of up to four steps (climb() retries at 2x and 4x), and corners turned by up
-  // to four angle steps.
+  // How far beyond the primitive's box the first step of any adjustment can reach, with a
+  // margin: shifts and size changes of up to four steps (climb() tries at most two at first),
+  // and corners turned by up to four angle steps.
   int first_reach(const Primitive& p) const {
     const Box b = bounds(p);
     const double half_diagonal = std::hypot(b.x1 - b.x0, b.y1 - b.y0) / 2;

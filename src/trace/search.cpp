@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <span>
 #include <string>
@@ -136,7 +137,14 @@ struct Effort {
 
 Score optimize(CsgTree& tree, const Bitmap& target, const LocalOptions& local, Effort& effort) {
   tree.compact();
-  TreeEvaluator ev(tree, target.width(), target.height());
+  // One evaluator per thread, its node bitmaps reused from candidate to candidate.
+  thread_local std::unique_ptr<TreeEvaluator> cached;
+  if (!cached || cached->width() != target.width() || cached->height() != target.height()) {
+    cached = std::make_unique<TreeEvaluator>(target.width(), target.height());
+  }
+  TreeEvaluator& ev = *cached;
+  ev.counters() = Counters{};
+  ev.set_tree(tree);
   LocalOptions o = local;
   o.trust_settled = true;
   const LocalResult r = optimize_locally(ev, target, o);

@@ -24,10 +24,11 @@
 //      can leave an edge off by one pixel);
 //   3. rotates a rectangle by +angle_step degrees while the mismatch improves, or by
 //      -angle_step if the first step does not; then the same with 1/2 and 1/4 of the step.
-// "Improves" is a strict decrease of the whole tree's EXCESS + UNCOVERED. A step that does not
-// improve is undone and tried again at twice and four times its size (a small step may move no
-// pixel centre across an edge) before the adjustment stops. At most max_steps steps per
-// adjustment. Sweeps repeat, at most max_iterations (M) times, while a sweep changes something.
+// "Improves" is a strict decrease of the whole tree's EXCESS + UNCOVERED. After every kept step
+// the pace doubles (up to 32 steps at once); a step that does not improve is tried again at half
+// the pace down to one step, then at two steps (a small step may move no pixel centre across an
+// edge), before the adjustment stops. At most max_steps steps per adjustment. Sweeps repeat, at
+// most max_iterations (M) times, while a sweep changes something.
 //
 // Candidates are scored without evaluating the tree: with every other leaf fixed, the tree's
 // result is (R0 & ~L) | (R1 & L) for the leaf's bitmap L (R0, R1: the results with L empty and
