@@ -2,7 +2,9 @@
 // rounded square, rotation directions, GIFs read back with giflib; pictures of traced trees.
 #include <gif_lib.h>
 #include <gtest/gtest.h>
+#include <stb_image.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -233,6 +235,39 @@ TEST(TracePictures, ExpressionPolarityAndPictures) {
   EXPECT_NE(svg.find("M0 10h32v1h-32z"), std::string::npos);  // the target's one row
   EXPECT_NE(svg.find("(1 | 2) - 3"), std::string::npos);
   EXPECT_THROW(result_png(e.result(), Bitmap(3, 3), 1), std::invalid_argument);
+}
+
+TEST(TracePictures, ResultColoursCountTheScore) {
+  // A disc traced by a square: result.png's red pixels are the EXCESS, blue the UNCOVERED.
+  Bitmap target(40, 30);
+  for (int row = 0; row < 30; ++row) {
+    for (int col = 0; col < 40; ++col) {
+      if (contains(circle(20, 15, 10), col + 0.5, row + 0.5)) target.set(col, row);
+    }
+  }
+  const TreeEvaluator e(CsgTree(rectangle(22, 15, 18, 18, 20)), 40, 30);
+  const Score sc = score(e.result(), target, 1);
+  ASSERT_GT(sc.excess, 0);
+  ASSERT_GT(sc.uncovered, 0);
+  const int scale = display_scale(40, 30);
+  const std::string png = result_png(e.result(), target, scale);
+  int w = 0, h = 0, channels = 0;
+  unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
+                                            static_cast<int>(png.size()), &w, &h, &channels, 3);
+  ASSERT_NE(px, nullptr);
+  EXPECT_EQ(w, 40 * scale);
+  EXPECT_GE(w, 256);
+  std::int64_t excess = 0, uncovered = 0;
+  for (int row = 0; row < 30 * scale; ++row) {  // the picture above the legend
+    for (int col = 0; col < w; ++col) {
+      const unsigned char* p = px + 3 * (static_cast<std::size_t>(row) * w + col);
+      excess += std::equal(p, p + 3, kExcessRgb);
+      uncovered += std::equal(p, p + 3, kUncoveredRgb);
+    }
+  }
+  stbi_image_free(px);
+  EXPECT_EQ(excess, sc.excess * scale * scale);
+  EXPECT_EQ(uncovered, sc.uncovered * scale * scale);
 }
 
 }  // namespace
