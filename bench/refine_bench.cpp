@@ -1,12 +1,13 @@
 // refine_bench: what refinement by fuzzy gradient descent (trace/refine.hpp) adds to the local
 // optimizer of Gibson et al. 1997 on glyphs.
 //
-//   refine_bench [--seeds N] [--iterations N] [--threads N] [picture ...]
+//   refine_bench [--seeds N] [--iterations N] [--threads N] [--batch N] [--lr X] [--lr-end X]
+//                [--sharpness-start X] [--sharpness-end X] [picture ...]
 //
 // For each picture (default: the 128x128 glyphs P, E, b and i of DejaVuSans-Bold in
 // ../shared/data/glyphs), N random trees (default 20, seeds 1..N) of norm(10, 2) primitives are
 // locally optimized (optimize_locally, defaults) and the best is kept; it is then refined
-// (refine, defaults but for the iterations), and the refined tree is locally optimized once
+// (refine, defaults but for the options given), and the refined tree is locally optimized once
 // more. Printed: the crisp scores (EXCESS + UNCOVERED + 25 x primitives) and the times.
 #include <chrono>
 #include <cstdio>
@@ -43,6 +44,16 @@ int main(int argc, char** argv) {
       refine_options.iterations = std::atoi(argv[++a]);
     } else if (arg == "--threads" && a + 1 < argc) {
       refine_options.threads = std::atoi(argv[++a]);
+    } else if (arg == "--batch" && a + 1 < argc) {
+      refine_options.batch = std::atoi(argv[++a]);
+    } else if (arg == "--lr" && a + 1 < argc) {
+      refine_options.lr = std::atof(argv[++a]);
+    } else if (arg == "--lr-end" && a + 1 < argc) {
+      refine_options.lr_end = std::atof(argv[++a]);
+    } else if (arg == "--sharpness-start" && a + 1 < argc) {
+      refine_options.sharpness_start = std::atof(argv[++a]);
+    } else if (arg == "--sharpness-end" && a + 1 < argc) {
+      refine_options.sharpness_end = std::atof(argv[++a]);
     } else {
       pictures.emplace_back(arg);
     }
@@ -54,8 +65,12 @@ int main(int argc, char** argv) {
       pictures.push_back(dir / (std::string("DejaVuSans-Bold_") + g + ".png"));
     }
   }
-  std::printf("best of %d seeds of random_tree + optimize_locally, then refine (%d iterations)\n",
-              seeds, refine_options.iterations);
+  std::printf(
+      "best of %d seeds of random_tree + optimize_locally, then refine (%d iterations, batch %d, "
+      "lr %g to %g, sharpness %g to %g)\n",
+      seeds, refine_options.iterations, refine_options.batch, refine_options.lr,
+      refine_options.lr * refine_options.lr_end, refine_options.sharpness_start,
+      refine_options.sharpness_end);
   std::printf("%-32s %5s %9s %8s %9s %8s %9s %8s\n", "picture", "prims", "local", "time_s",
               "refined", "time_s", "+local", "time_s");
   for (const std::filesystem::path& picture : pictures) {

@@ -162,7 +162,7 @@ TEST(TraceRefine, NeverMakesTheCrispScoreWorse) {
   EXPECT_THROW(refine(t, target, o), InputError);
 }
 
-// A good tree for the glyph P: the best of a few random trees, locally optimized.
+// A good tree for a glyph: the best of a few random trees, locally optimized.
 CsgTree good_tree(const Bitmap& target, int tries) {
   CsgTree best;
   double best_score = 0;
@@ -180,9 +180,19 @@ CsgTree good_tree(const Bitmap& target, int tries) {
   return best;
 }
 
+// The glyph P and a good tree for it, made once for the tests below.
+struct GlyphP {
+  Bitmap target = glyph("DejaVuSans-Bold_U0050_P.png");
+  CsgTree good = good_tree(target, 3);
+};
+const GlyphP& glyph_p() {
+  static const GlyphP g;
+  return g;
+}
+
 TEST(TraceRefine, BringsAShiftedGlyphTreeBack) {
-  const Bitmap target = glyph("DejaVuSans-Bold_U0050_P.png");
-  const CsgTree good = good_tree(target, 3);
+  const Bitmap& target = glyph_p().target;
+  const CsgTree& good = glyph_p().good;
   CsgTree shifted = good;
   for (const int leaf : shifted.leaves()) {
     shifted.primitive(leaf).x += 2.5;
@@ -203,8 +213,8 @@ TEST(TraceRefine, ImprovesWhereTheLocalOptimizerIsStuck) {
   // The local optimizer's result is a fixed point of the local optimizer: it moves one
   // coordinate of one primitive at a time by fixed steps and needs each step to improve.
   // Gradient descent moves every parameter at once, by any amount.
-  const Bitmap target = glyph("DejaVuSans-Bold_U0050_P.png");
-  const CsgTree good = good_tree(target, 3);
+  const Bitmap& target = glyph_p().target;
+  const CsgTree& good = glyph_p().good;
   TreeEvaluator ev(good, target.width(), target.height());
   LocalOptions lo;
   lo.prune = false;
