@@ -198,7 +198,9 @@ TEST(TraceRefine, BringsAShiftedGlyphTreeBack) {
     shifted.primitive(leaf).x += 2.5;
     shifted.primitive(leaf).y -= 2.0;
   }
-  const RefineResult r = refine(shifted, target);
+  RefineOptions o;
+  o.iterations = 150;
+  const RefineResult r = refine(shifted, target, o);
   EXPECT_TRUE(r.improved);
   EXPECT_LT(r.after.total(), r.before.total());
   // Most of the way back: the shift costs more than the good tree's whole mismatch.
@@ -220,7 +222,9 @@ TEST(TraceRefine, ImprovesWhereTheLocalOptimizerIsStuck) {
   lo.prune = false;
   const LocalResult again = optimize_locally(ev, target, lo);
   ASSERT_EQ(again.score.total(), crisp_score(good, target));  // stuck
-  const RefineResult r = refine(good, target);
+  RefineOptions o;
+  o.iterations = 150;
+  const RefineResult r = refine(good, target, o);
   EXPECT_TRUE(r.improved);
   EXPECT_LT(r.after.total(), r.before.total());
 }
