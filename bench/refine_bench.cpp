@@ -2,7 +2,7 @@
 // optimizer of Gibson et al. 1997 on glyphs.
 //
 //   refine_bench [--seeds N] [--iterations N] [--threads N] [--batch N] [--lr X] [--lr-end X]
-//                [--sharpness-start X] [--sharpness-end X] [picture ...]
+//                [--angle-lr X] [--sharpness-start X] [--sharpness-end X] [picture ...]
 //
 // For each picture (default: the 128x128 glyphs P, E, b and i of DejaVuSans-Bold in
 // ../shared/data/glyphs), N random trees (default 20, seeds 1..N) of norm(10, 2) primitives are
@@ -48,6 +48,8 @@ int main(int argc, char** argv) {
       refine_options.batch = std::atoi(argv[++a]);
     } else if (arg == "--lr" && a + 1 < argc) {
       refine_options.lr = std::atof(argv[++a]);
+    } else if (arg == "--angle-lr" && a + 1 < argc) {
+      refine_options.angle_lr = std::atof(argv[++a]);
     } else if (arg == "--lr-end" && a + 1 < argc) {
       refine_options.lr_end = std::atof(argv[++a]);
     } else if (arg == "--sharpness-start" && a + 1 < argc) {
