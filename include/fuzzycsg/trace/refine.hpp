@@ -22,6 +22,10 @@
 // the result. It replaces the input only when its score is strictly lower, so refinement never
 // makes the crisp score worse. The result keeps the input's node ids: only the primitives'
 // fields that define their shapes change (x, y and r; or x, y, w, h and theta).
+//
+// Cost: one forward and backward pass of the evaluator over the sampled pixels per step. Placed
+// circles and rectangles take the evaluator's scalar path (eval/evaluator.hpp vectorises
+// quadric leaves only): about 10 ms a step for 8 primitives on 128 x 128 pixels on one core.
 
 #include <cstdint>
 #include <vector>
@@ -62,7 +66,8 @@ struct RefineResult {
   std::vector<double> loss;  // the mean squared error at each step
 };
 
-// Refines `tree` (not empty) against `target`; the tree's pixel units are the target's.
+// Refines `tree` against `target`; the tree's pixel units are the target's. Throws InputError
+// for an empty tree or target and for options out of range.
 RefineResult refine(const CsgTree& tree, const Bitmap& target, const RefineOptions& options = {});
 
 }  // namespace fuzzycsg::trace
