@@ -36,6 +36,13 @@ Box bounds(const Primitive& p) {
   return {p.x - ex, p.y - ey, p.x + ex, p.y + ey};
 }
 
+PixelBox PixelBox::joined(const PixelBox& o) const {
+  if (o.empty()) return *this;
+  if (empty()) return o;
+  return {std::min(col0, o.col0), std::min(row0, o.row0), std::max(col1, o.col1),
+          std::max(row1, o.row1)};
+}
+
 CsgTree::CsgTree(const Primitive& p) { add_leaf(p); }
 
 int CsgTree::add_leaf(const Primitive& p) {
@@ -118,6 +125,7 @@ int CsgTree::copy_from(const CsgTree& sub, int i) {
   if (n.leaf) {
     Node c;
     c.prim = n.prim;
+    c.settled = n.settled;
     nodes_.push_back(c);
     return static_cast<int>(nodes_.size()) - 1;
   }
@@ -193,7 +201,18 @@ int CsgTree::add_subtree(int at, Op op, const CsgTree& sub) {
   return id;
 }
 
+void CsgTree::unsettle(const PixelBox& changed) {
+  for (Node& n : nodes_) {
+    if (n.alive && n.leaf && n.settled.intersects(changed)) n.settled = PixelBox{};
+  }
+}
+
+void CsgTree::unsettle_all() {
+  for (Node& n : nodes_) n.settled = PixelBox{};
+}
+
 void CsgTree::toggle_shape(int leaf) {
+  nodes_.at(static_cast<std::size_t>(leaf)).settled = PixelBox{};
   Primitive& p = primitive(leaf);
   if (p.shape == Shape::kCircle) {
     p.shape = Shape::kRectangle;

@@ -6,19 +6,11 @@
 #include <numbers>
 
 #include "fuzzycsg/core/error.hpp"
+#include "spans.hpp"
 
 namespace fuzzycsg::trace {
 
-namespace {
-
-// The index of the first pixel centre (k + 1/2) at or after v, as a clamped integer.
-int clamp_index(double v, int lo, int hi) {
-  if (!(v > lo)) return lo;  // also NaN
-  if (!(v < hi)) return hi;
-  return static_cast<int>(v);
-}
-
-}  // namespace
+using detail::clamp_index;
 
 PixelBox pixel_box(const Primitive& p, int width, int height) {
   const Box b = bounds(p);
@@ -36,60 +28,11 @@ PixelBox grow(const PixelBox& b, int margin, int width, int height) {
           std::min(width, b.col1 + margin), std::min(height, b.row1 + margin)};
 }
 
+FUZZYCSG_TRACE_HOT
 PixelBox scan_convert(const Primitive& p, Bitmap& out) {
   const PixelBox box = pixel_box(p, out.width(), out.height());
   out.clear_rows(box.row0, box.row1);
-  if (box.empty()) return box;
-  double c = 1, s = 0;
-  if (p.shape == Shape::kRectangle) {
-    const double t = p.theta * (std::numbers::pi / 180.0);
-    c = std::cos(t);
-    s = std::sin(t);
-  }
-  for (int j = box.row0; j < box.row1; ++j) {
-    const double py = j + 0.5, dy = py - p.y;
-    // The open interval (lo, hi) of x where the row is inside, approximately.
-    double lo = 0, hi = 0;
-    if (p.shape == Shape::kCircle) {
-      const double d2 = p.r * p.r - dy * dy;
-      if (!(d2 > 0)) continue;  // dx^2 + dy^2 >= dy^2 >= r^2 for every dx
-      const double half = std::sqrt(d2);
-      lo = p.x - half;
-      hi = p.x + half;
-    } else {
-      lo = -HUGE_VAL;
-      hi = HUGE_VAL;
-      // |c dx + s dy| < w / 2 and |-s dx + c dy| < h / 2.
-      const auto slab = [&](double a, double b, double half) {
-        if (std::abs(a) < 1e-300) {
-          if (!(std::abs(b) < half)) hi = lo = 0;
-          return;
-        }
-        double t0 = (-half - b) / a, t1 = (half - b) / a;
-        if (t0 > t1) std::swap(t0, t1);
-        lo = std::max(lo, p.x + t0);
-        hi = std::min(hi, p.x + t1);
-      };
-      slab(c, s * dy, p.w / 2);
-      slab(-s, c * dy, p.h / 2);
-    }
-    const auto inside = [&](int i) { return contains(p, i + 0.5, py); };
-    int i0 = clamp_index(std::ceil(lo - 0.5), box.col0, box.col1 - 1);
-    int i1 = clamp_index(std::floor(hi - 0.5), box.col0, box.col1 - 1);
-    if (i0 > i1) {
-      // Empty or a sliver: only the pixel nearest the interval can be inside.
-      i0 = i1 = clamp_index(std::floor((lo + hi) / 2), box.col0, box.col1 - 1);
-      if (!inside(i0)) continue;
-    }
-    // Exact ends by the point test (the row's inside pixels are contiguous: the shapes are
-    // convex).
-    while (i0 <= i1 && !inside(i0)) ++i0;
-    while (i1 >= i0 && !inside(i1)) --i1;
-    if (i0 > i1) continue;
-    while (i0 > box.col0 && inside(i0 - 1)) --i0;
-    while (i1 + 1 < box.col1 && inside(i1 + 1)) ++i1;
-    out.set_span(j, i0, i1 + 1);
-  }
+  detail::for_each_span(p, box, [&](int row, int c0, int c1) { out.set_span(row, c0, c1); });
   return box;
 }
 
@@ -106,6 +49,7 @@ const Bitmap& TreeEvaluator::set_tree(const CsgTree& tree) {
   return evaluate();
 }
 
+FUZZYCSG_TRACE_HOT
 void TreeEvaluator::combine(int node, int row0, int row1) {
   const Node& n = tree_.node(node);
   Bitmap& out = masks_[static_cast<std::size_t>(node)];
@@ -173,6 +117,7 @@ const Bitmap& TreeEvaluator::update_primitive(int leaf, const Primitive& p) {
   return result();
 }
 
+FUZZYCSG_TRACE_HOT
 Score score(const Bitmap& tree, const Bitmap& target, int primitives, double k) {
   if (tree.width() != target.width() || tree.height() != target.height()) {
     throw Error("trace::score: the bitmaps differ in size");
@@ -188,6 +133,7 @@ Score score(const Bitmap& tree, const Bitmap& target, int primitives, double k) 
   return s;
 }
 
+FUZZYCSG_TRACE_HOT
 LocalMismatch local_mismatch(const Bitmap& tree, const Bitmap& target, const PixelBox& box) {
   LocalMismatch m;
   double ex = 0, ey = 0, ux = 0, uy = 0;
@@ -202,12 +148,18 @@ LocalMismatch local_mismatch(const Bitmap& tree, const Bitmap& target, const Pix
       const std::uint64_t e = a[wi] & ~b[wi] & range, u = b[wi] & ~a[wi] & range;
       const auto sums = [&](std::uint64_t bits, std::int64_t& count, double& sx, double& sy) {
         const int n = std::popcount(bits);
+        if (n == 0) return;
         count += n;
         sy += n * (j + 0.5);
-        while (bits) {
-          sx += base + std::countr_zero(bits) + 0.5;
-          bits &= bits - 1;
-        }
+        // The sum of the set bits' indices, bit by bit of the index.
+        int index_sum = 0;
+        index_sum += std::popcount(bits & 0xaaaaaaaaaaaaaaaaull);
+        index_sum += 2 * std::popcount(bits & 0xccccccccccccccccull);
+        index_sum += 4 * std::popcount(bits & 0xf0f0f0f0f0f0f0f0ull);
+        index_sum += 8 * std::popcount(bits & 0xff00ff00ff00ff00ull);
+        index_sum += 16 * std::popcount(bits & 0xffff0000ffff0000ull);
+        index_sum += 32 * std::popcount(bits & 0xffffffff00000000ull);
+        sx += n * (base + 0.5) + index_sum;
       };
       sums(e, m.excess, ex, ey);
       sums(u, m.uncovered, ux, uy);

@@ -42,6 +42,19 @@ struct Box {
 };
 Box bounds(const Primitive& p);
 
+// Rows [row0, row1) and columns [col0, col1) of a width x height bitmap; empty when row0 >= row1
+// or col0 >= col1.
+struct PixelBox {
+  int col0 = 0, row0 = 0, col1 = 0, row1 = 0;
+  bool empty() const { return col0 >= col1 || row0 >= row1; }
+  bool intersects(const PixelBox& o) const {
+    return !empty() && !o.empty() && col0 < o.col1 && o.col0 < col1 && row0 < o.row1 &&
+           o.row0 < row1;
+  }
+  // The smallest box holding both (an empty box adds nothing).
+  PixelBox joined(const PixelBox& o) const;
+};
+
 struct Node {
   bool leaf = true;
   Primitive prim;      // leaf
@@ -49,6 +62,11 @@ struct Node {
   int children[2] = {-1, -1};
   int parent = -1;
   bool alive = true;  // false: an unused slot left by an edit
+  // Bookkeeping of the local optimizer (trace/optimize.hpp), copied with the node: the pixels
+  // the last adjustment of this leaf depended on, when that adjustment changed nothing. While
+  // no other leaf changes a pixel there, adjusting the leaf again would change nothing either,
+  // so it is skipped. Empty: the leaf must be adjusted.
+  PixelBox settled;
 };
 
 class CsgTree {
@@ -88,10 +106,19 @@ class CsgTree {
   // Replaces the subtree at `at` by (at op copy-of-sub); returns the id of the new operator.
   int add_subtree(int at, Op op, const CsgTree& sub);
   // A circle becomes a rectangle of the same centre with w = h = 2r and theta = 0, a rectangle
-  // a circle of the same centre with r = (w + h) / 4.
+  // a circle of the same centre with r = (w + h) / 4. The leaf is unsettled.
   void toggle_shape(int leaf);
   // Removes unused slots (renumbers nodes; ids held outside become invalid).
   void compact();
+
+  // --- the local optimizer's bookkeeping (Node::settled)
+  void settle(int leaf, const PixelBox& box) {
+    nodes_.at(static_cast<std::size_t>(leaf)).settled = box;
+  }
+  // Unsettles every leaf whose settled box meets `changed` (pixels whose value may have changed
+  // for reasons other than the leaf itself).
+  void unsettle(const PixelBox& changed);
+  void unsettle_all();
 
  private:
   int copy_from(const CsgTree& sub, int i);

@@ -16,12 +16,6 @@
 
 namespace fuzzycsg::trace {
 
-// Rows [row0, row1) and columns [col0, col1) of a width x height bitmap; empty when row0 >= row1
-// or col0 >= col1.
-struct PixelBox {
-  int col0 = 0, row0 = 0, col1 = 0, row1 = 0;
-  bool empty() const { return col0 >= col1 || row0 >= row1; }
-};
 // The pixels whose centres may lie in bounds(p), clipped to the bitmap.
 PixelBox pixel_box(const Primitive& p, int width, int height);
 // `b` grown by `margin` pixels on every side, clipped to the bitmap.
@@ -57,6 +51,11 @@ class TreeEvaluator {
   // The tree's bitmap (of the last evaluation), and any node's.
   const Bitmap& result() const { return mask(tree_.root()); }
   const Bitmap& mask(int node) const { return masks_.at(static_cast<std::size_t>(node)); }
+
+  // The local optimizer's bookkeeping on the evaluator's tree (CsgTree::settle, unsettle).
+  void settle(int leaf, const PixelBox& box) { tree_.settle(leaf, box); }
+  void unsettle(const PixelBox& changed) { tree_.unsettle(changed); }
+  void unsettle_all() { tree_.unsettle_all(); }
 
   const Counters& counters() const { return counters_; }
   Counters& counters() { return counters_; }

@@ -24,11 +24,20 @@
 //      can leave an edge off by one pixel);
 //   3. rotates a rectangle by +angle_step degrees while the mismatch improves, or by
 //      -angle_step if the first step does not; then the same with 1/2 and 1/4 of the step.
-// "Improves" is a strict decrease of the whole tree's EXCESS + UNCOVERED, each candidate
-// evaluated incrementally (TreeEvaluator::update_primitive); a step that does not improve is
-// undone and tried again at twice and four times its size (a small step may move no pixel
-// centre across an edge) before the adjustment stops. At most max_steps steps per adjustment.
-// Sweeps repeat, at most max_iterations (M) times, while a sweep lowers the score.
+// "Improves" is a strict decrease of the whole tree's EXCESS + UNCOVERED. After every kept step
+// the pace doubles (up to 32 steps at once); a step that does not improve is tried again at half
+// the pace down to one step, then at two steps (a small step may move no pixel centre across an
+// edge), before the adjustment stops. At most max_steps steps per adjustment. Sweeps repeat, at most max_iterations (M) times, while a sweep changes something.
+//
+// Candidates are scored without evaluating the tree: with every other leaf fixed, the tree's
+// result is (R0 & ~L) | (R1 & L) for the leaf's bitmap L (R0, R1: the results with L empty and
+// full), so a candidate's mismatch follows from counting, along its scan-converted spans, the
+// pixels it would fix and those it would spoil. A kept step updates the tree incrementally
+// (TreeEvaluator::update_primitive). Both count as trees evaluated.
+//
+// A leaf whose adjustment changed nothing records the pixels it read (Node::settled); until
+// another leaf, or an edit of the tree, changes one of those pixels, adjusting it again would
+// give the same nothing, and later sweeps skip it. The result is that of sweeping every leaf.
 //
 // Pruning then removes, one at a time, every primitive whose removal (cut_subtree()) does not
 // increase EXCESS + UNCOVERED, as long as one primitive remains.
@@ -48,6 +57,11 @@ struct LocalOptions {
   double min_size = 0.5;    // smallest radius, width or height
   int max_steps = 256;      // per adjustment of one parameter
   bool prune = true;
+  // Skip the leaves whose Node::settled box says that adjusting them would change nothing
+  // (left by an earlier optimization against the same target and options, and kept up to date
+  // by CsgTree::unsettle() after edits; the global search does this). Otherwise every leaf's
+  // bookkeeping is cleared first.
+  bool trust_settled = false;
 };
 
 struct LocalResult {

@@ -60,9 +60,9 @@ struct SearchOptions {
   std::array<double, 4> probabilities{0.3, 0.3, 0.3, 0.1};
   LocalOptions local;  // M (max_iterations) and k
   std::uint64_t seed = 1;
-  int threads = 0;            // 0: every hardware thread
-  int batch = 8;              // iterations optimized in parallel (see above)
-  double time_limit = 0;      // seconds; 0: none
+  int threads = 0;              // 0: every hardware thread
+  int batch = 8;                // iterations optimized in parallel (see above)
+  double time_limit = 0;        // seconds; 0: none
   int statistics_window = 100;  // iterations per row of SearchResult::history
 };
 
@@ -123,8 +123,8 @@ MorphResult search_morph(const Bitmap& first, const Bitmap& second,
 // `min_difference` pixels (the share of the picture's pixels, in [0, 1]) or it has a different
 // structure (operators and primitive types in order).
 struct Variety {
-  std::vector<SearchResult> runs;      // in seed order
-  std::vector<int> distinct;           // indices into runs, best first
+  std::vector<SearchResult> runs;  // in seed order
+  std::vector<int> distinct;       // indices into runs, best first
 };
 Variety search_variety(const Bitmap& target, const SearchOptions& options, int runs,
                        double min_difference = 0.01);
