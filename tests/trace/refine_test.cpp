@@ -169,6 +169,34 @@ TEST(TraceRefine, NeverMakesTheCrispScoreWorse) {
   EXPECT_THROW(refine(t, target, o), InputError);
 }
 
+TEST(TraceRefine, KeepsTheInputsNodeIds) {
+  // A tree with an unused slot (an edit's leftover): the result has the same nodes, only the
+  // primitives' shapes moved; a circle's unused rectangle fields stay.
+  const int n = 48;
+  const Bitmap target =
+      TreeEvaluator(CsgTree(Primitive{Shape::kRectangle, 24, 22, 1, 20, 14, 10}), n, n).result();
+  CsgTree t;
+  const int a = t.add_leaf({Shape::kRectangle, 26, 24, 1, 18, 12, 4});
+  const int b = t.add_leaf({Shape::kCircle, 10, 10, 3, 7, 9, 33});
+  const int c = t.add_leaf({Shape::kCircle, 40, 40, 2});
+  t.add_op(Op::kUnion, t.add_op(Op::kUnion, a, b), c);
+  ASSERT_TRUE(t.cut_subtree(c));
+  RefineOptions o;
+  o.iterations = 40;
+  o.threads = 1;
+  const RefineResult r = refine(t, target, o);
+  ASSERT_TRUE(r.improved);
+  ASSERT_EQ(r.tree.nodes().size(), t.nodes().size());
+  EXPECT_EQ(r.tree.root(), t.root());
+  EXPECT_EQ(r.tree.leaves(), t.leaves());
+  EXPECT_FALSE(r.tree.node(c).alive);
+  const Primitive& circle = r.tree.primitive(b);
+  EXPECT_EQ(circle.w, 7);
+  EXPECT_EQ(circle.h, 9);
+  EXPECT_EQ(circle.theta, 33);
+  EXPECT_LT(r.after.mismatch(), r.before.mismatch());
+}
+
 // A good tree for a glyph: the best of a few random trees, locally optimized.
 CsgTree good_tree(const Bitmap& target, int tries) {
   CsgTree best;
