@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@
 #include "fuzzycsg/trace/evaluate.hpp"
 #include "fuzzycsg/trace/morph_frames.hpp"
 #include "fuzzycsg/trace/pictures.hpp"
+#include "fuzzycsg/trace/refine.hpp"
 #include "fuzzycsg/trace/search.hpp"
 
 namespace fuzzycsg::app {
@@ -48,6 +50,8 @@ struct TraceArgs {
   SearchArgs search;
   int runs = 1;
   double min_difference = 0.01;
+  bool refine = false;
+  trace::RefineOptions refine_options;
 };
 
 struct MorphArgs {
@@ -295,6 +299,11 @@ int run_trace(const TraceArgs& a) {
     throw InputError(fmt::format("--min-difference: must lie in [0, 1], got {}", a.min_difference));
   }
   const SearchOptions options = search_options(a.search);
+  trace::RefineOptions ro = a.refine_options;
+  ro.k = options.local.k;
+  ro.seed = options.seed;
+  ro.threads = options.threads;
+  if (a.refine) trace::validate(ro);
   const Bitmap target = trace::read_bitmap(a.bitmap);
   const fs::path out(a.out_dir);
   prepare_output_dir(out);
@@ -308,6 +317,18 @@ int run_trace(const TraceArgs& a) {
   json settings = settings_json(options);
   settings["runs"] = a.runs;
   if (a.runs > 1) settings["min_difference"] = a.min_difference;
+  if (a.refine) {
+    settings["refine"] = {{"iterations", ro.iterations},
+                          {"batch", ro.batch},
+                          {"lr", ro.lr},
+                          {"lr_end", ro.lr_end},
+                          {"angle_lr", ro.angle_lr},
+                          {"sharpness_start", ro.sharpness_start},
+                          {"sharpness_end", ro.sharpness_end},
+                          {"min_size", ro.min_size},
+                          {"check_every", ro.check_every},
+                          {"time_limit", ro.time_limit}};
+  }
   report["settings"] = settings;
 
   trace::SearchResult best;
@@ -344,6 +365,26 @@ int run_trace(const TraceArgs& a) {
     best = v.runs[static_cast<std::size_t>(v.distinct.front())];
     report["best_run"] = v.distinct.front();
   }
+  // --refine: the best tree refined by gradient descent on its fuzzy relaxation; it replaces
+  // the search's tree only when its crisp score is lower (the search's is kept as
+  // search_tree.json).
+  std::string search_tree;
+  std::optional<trace::RefineResult> refined;
+  if (a.refine) {
+    refined = trace::refine(best.best, target, ro);
+    json r;
+    r["improved"] = refined->improved;
+    r["iterations"] = refined->iterations;
+    r["best_iteration"] = refined->best_iteration;
+    r["seconds"] = refined->seconds;
+    r["before"] = score_json(refined->before, best.best);
+    r["after"] = score_json(refined->after, refined->tree);
+    r["final_loss"] = refined->loss.empty() ? 0.0 : refined->loss.back();
+    report["refine"] = r;
+    search_tree = trace::to_tree_json(best.best, target.width(), target.height());
+    best.best = refined->tree;
+    best.score = refined->after;
+  }
   const json result = score_json(best.score, best.best);
   for (const auto& [key, value] : result.items()) report[key] = value;
   report["statistics"] = statistics_json(best.statistics);
@@ -351,6 +392,7 @@ int run_trace(const TraceArgs& a) {
 
   // Everything is computed; each file is written atomically, the report last.
   io::write_text_file_atomic(out / "tree.json", files.tree_json);
+  if (a.refine) io::write_text_file_atomic(out / "search_tree.json", search_tree);
   io::write_text_file_atomic(out / "result.png", files.result_png);
   io::write_text_file_atomic(out / "primitives.svg", files.primitives_svg);
   remove_stale_distinct(out, distinct_files.size());
@@ -376,8 +418,13 @@ int run_trace(const TraceArgs& a) {
     if (a.runs > 1) {
       fmt::print("trace: {} runs, {} distinct results\n", a.runs, distinct_files.size());
     }
-    fmt::print("trace: wrote {}/{{tree.json, result.png, primitives.svg, report.json{}}}\n",
-               out.string(), a.runs > 1 ? ", distinct/" : "");
+    if (refined) {
+      fmt::print("trace: refined in {} steps ({:.2f}s): {} -> {}{}\n", refined->iterations,
+                 refined->seconds, refined->before.total(), refined->after.total(),
+                 refined->improved ? "" : " (not improved, the search's tree kept)");
+    }
+    fmt::print("trace: wrote {}/{{tree.json, result.png, primitives.svg, report.json{}{}}}\n",
+               out.string(), a.refine ? ", search_tree.json" : "", a.runs > 1 ? ", distinct/" : "");
   }
   return 0;
 }
@@ -507,7 +554,28 @@ Verb register_trace(CLI::App& app) {
   cmd->add_option("--min-difference", a->min_difference,
                   "--runs: share of the pixels by which results must differ to be distinct")
       ->capture_default_str();
-  return {cmd, [a] { return run_trace(*a); }};
+  cmd->add_flag("--refine", a->refine,
+                "Refine the best tree by gradient descent on its fuzzy relaxation (kept only "
+                "when its score is lower)");
+  cmd->add_option("--refine-iterations", a->refine_options.iterations, "--refine: Adam steps")
+      ->capture_default_str();
+  cmd->add_option("--refine-lr", a->refine_options.lr, "--refine: initial learning rate (pixels)")
+      ->capture_default_str();
+  cmd->add_option("--refine-batch", a->refine_options.batch,
+                  "--refine: pixels sampled per step (0: every pixel)")
+      ->capture_default_str();
+  cmd->add_option("--refine-time-limit", a->refine_options.time_limit,
+                  "--refine: stop refining after this many seconds (0: none)")
+      ->capture_default_str();
+  return {cmd, [a, cmd] {
+            for (const char* flag :
+                 {"--refine-iterations", "--refine-lr", "--refine-batch", "--refine-time-limit"}) {
+              if (cmd->count(flag) > 0 && !a->refine) {
+                throw InputError(fmt::format("{}: only with --refine", flag));
+              }
+            }
+            return run_trace(*a);
+          }};
 }
 
 Verb register_morph(CLI::App& app) {

@@ -68,8 +68,8 @@ if sum(s["operators"][n]["tried"] for n in s["operators"]) > s["iterations"]:
 best = s["best_score"]
 if not best or any(b[1] > a[1] + 1e-9 for a, b in zip(best, best[1:])):
     problems.append("best_score history is not decreasing")
-elif abs(best[-1][1] - r["score"]) > 1e-6:
-    problems.append("last best score differs from the score")
+elif abs(best[-1][1] - r.get("refine", {}).get("before", r)["score"]) > 1e-6:
+    problems.append("last best score differs from the search's score")
 for key in ("population", "max_trees", "patience", "refocus", "initial_size", "initial_sd",
             "added_size", "added_sd", "probabilities", "iterations", "seed", "threads", "batch",
             "time_limit"):
@@ -110,6 +110,21 @@ assert struct.unpack(">I", b[16:20])[0] >= 256' "$tmp/t/result.png"; then ok; el
   else
     bad "trace: $(tail -5 "$tmp/t.log")"
   fi
+
+  # --refine: never worse; the search's tree kept beside the result.
+  if "$bin" trace "$glyph" -o "$tmp/r" "${small[@]}" --threads 2 --refine --refine-iterations 40 -q \
+      2>"$tmp/err" && [[ -s "$tmp/r/search_tree.json" && -s "$tmp/r/tree.json" ]]; then
+    if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); f=r["refine"]
+assert f["after"]["score"] <= f["before"]["score"] and f["iterations"] == 40
+assert abs(r["score"] - f["after"]["score"]) < 1e-9 and r["settings"]["refine"]["iterations"] == 40' \
+        "$tmp/r/report.json"; then ok; else bad "trace --refine report"; fi
+    if out=$(check_report "$tmp/r/report.json"); then ok; else bad "trace --refine report.json: $out"; fi
+  else
+    bad "trace --refine: $(cat "$tmp/err")"
+  fi
+  expect_error "--refine-iterations: only with --refine" "$bin" trace "$glyph" -o "$tmp/bad15" \
+    --refine-iterations 5
+  [[ -e "$tmp/bad15" ]] && bad "--refine-iterations without --refine left a directory" || ok
 
   # The same seed gives the same tree whatever the number of threads.
   if "$bin" trace "$glyph" -o "$tmp/t1" "${small[@]}" --seed 3 --k 20 --threads 1 -q &&
