@@ -8,15 +8,18 @@
 
 namespace fuzzycsg::trace {
 
-namespace {
-
 void rotation(double theta_deg, double& c, double& s) {
-  const double t = theta_deg * (std::numbers::pi / 180.0);
-  c = std::cos(t);
-  s = std::sin(t);
+  // The search asks for the same few angles again and again: the last one is remembered.
+  thread_local double last = 0, last_c = 1, last_s = 0;
+  if (theta_deg != last) {
+    const double t = theta_deg * (std::numbers::pi / 180.0);
+    last_c = std::cos(t);
+    last_s = std::sin(t);
+    last = theta_deg;
+  }
+  c = last_c;
+  s = last_s;
 }
-
-}  // namespace
 
 bool contains(const Primitive& p, double px, double py) {
   const double dx = px - p.x, dy = py - p.y;

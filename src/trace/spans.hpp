@@ -25,11 +25,7 @@ namespace fuzzycsg::trace::detail {
 // contains() with the rotation computed once; the same arithmetic, so the same answers.
 struct PreparedPrimitive {
   explicit PreparedPrimitive(const Primitive& prim) : p(prim) {
-    if (prim.shape == Shape::kRectangle) {
-      const double t = prim.theta * (std::numbers::pi / 180.0);
-      c = std::cos(t);
-      s = std::sin(t);
-    }
+    if (prim.shape == Shape::kRectangle) rotation(prim.theta, c, s);
   }
   bool inside(double px, double py) const {
     const double dx = px - p.x, dy = py - p.y;
@@ -89,14 +85,15 @@ template <class Interval, class F>
       const double a = lo[k] - 0.5, b = hi[k] - 0.5;
       // Away from pixel centres (by far more than the rounding of lo and hi, for coordinates
       // up to 1e6) the interval decides; near one, the point test does.
+      // (Non-short-circuit operators, so that the loop has no branches.)
       const double ca = std::ceil(a), fb = std::floor(b);
-      const bool sure = std::abs(a) < 1e6 && std::abs(b) < 1e6 &&
-                        std::abs(a - std::floor(a + 0.5)) > 1e-7 &&
-                        std::abs(b - std::floor(b + 0.5)) > 1e-7;
+      const bool sure = (std::abs(a) < 1e6) & (std::abs(b) < 1e6) &
+                        (std::abs(a - std::floor(a + 0.5)) > 1e-7) &
+                        (std::abs(b - std::floor(b + 0.5)) > 1e-7);
       const bool none = !(lo[k] < hi[k]);  // also NaN
-      near[k] = !none && !sure;
-      c0[k] = sure ? static_cast<int>(ca) : 0;
-      c1[k] = sure ? static_cast<int>(fb) + 1 : 0;
+      near[k] = (!none) & (!sure);
+      c0[k] = static_cast<int>(sure ? ca : 0.0);
+      c1[k] = static_cast<int>(sure ? fb + 1 : 0.0);
     }
     for (int k = 0; k < n; ++k) {
       const int j = j0 + k;

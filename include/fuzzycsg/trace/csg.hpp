@@ -32,6 +32,9 @@ struct Primitive {
   friend bool operator==(const Primitive&, const Primitive&) = default;
 };
 
+// cos and sin of theta degrees (the same values wherever the module rotates).
+void rotation(double theta_deg, double& c, double& s);
+
 // Whether the point (px, py) lies strictly inside the primitive: the test scan conversion
 // agrees with at every pixel centre.
 bool contains(const Primitive& p, double px, double py);
