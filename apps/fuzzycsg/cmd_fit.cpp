@@ -126,20 +126,25 @@ CLI::Option* add_choice(CLI::App* cmd, const std::string& flag, E& target,
       ->default_str(current);
 }
 
-void prepare_output_dir(const fs::path& dir) {
+}  // namespace
+
+void prepare_output_dir(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
   std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw InputError(
+        fmt::format("{}: cannot create output directory (a file is there)", dir.string()));
+  }
   fs::create_directories(dir, ec);
   if (ec) {
     throw InputError(
         fmt::format("{}: cannot create output directory ({})", dir.string(), ec.message()));
   }
-  // Fail now, not after hours of training, when nothing can be written there.
+  // Fail now, not after hours of work, when nothing can be written there.
   const fs::path probe = dir / ".fuzzycsg-write-test";
   io::write_text_file_atomic(probe, "");
   fs::remove(probe, ec);
 }
-
-}  // namespace
 
 int run_fit_job(const FitJob& job) {
   const fs::path out(job.out_dir);

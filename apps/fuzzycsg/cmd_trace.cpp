@@ -149,23 +149,6 @@ SearchOptions search_options(const SearchArgs& a) {
   return o;
 }
 
-// The output directory, created (after the inputs are known to be good) and probed.
-void prepare_output_dir(const fs::path& dir) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
-    throw InputError(
-        fmt::format("{}: cannot create output directory (a file is there)", dir.string()));
-  }
-  fs::create_directories(dir, ec);
-  if (ec) {
-    throw InputError(
-        fmt::format("{}: cannot create output directory ({})", dir.string(), ec.message()));
-  }
-  const fs::path probe = dir / ".fuzzycsg-write-test";
-  io::write_text_file_atomic(probe, "");
-  fs::remove(probe, ec);
-}
-
 // The distinct results of an earlier run with more of them (OUTDIR/distinct/NN beyond `keep`):
 // their files, and the folders when nothing else is left in them.
 void remove_stale_distinct(const fs::path& out, std::size_t keep) {

@@ -2,6 +2,7 @@
 // The verbs of the fuzzycsg program; one source file each.
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct FitJob {
   std::string command_line;
 };
 int run_fit_job(const FitJob& job);
+
+// Creates an output directory (after the inputs are known to be good) and checks that files
+// can be written there; InputError naming it otherwise (also when a file is in the way).
+void prepare_output_dir(const std::filesystem::path& dir);
 
 // The program's command line, joined with spaces (recorded in reports).
 std::string& command_line();
