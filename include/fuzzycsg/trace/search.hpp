@@ -82,7 +82,8 @@ struct SearchStatistics {
   std::uint64_t tree_evaluations = 0;    // every evaluation, the local optimizer's included
   std::uint64_t primitives_scanned = 0;  // primitive scan conversions
   int iterations = 0;
-  // Why the search ended: "max-trees" (N), "patience" (B) or "time-limit".
+  // Why the search ended: "max-trees" (N), "patience" (B), "time-limit", or "empty" (an
+  // empty bitmap, answered without a search).
   const char* stopped_by = "max-trees";
   std::uint64_t best_found_at = 0;  // trees evaluated when the best tree was first produced
   std::array<std::uint64_t, 4> tried{}, improved{};  // whole run, by Perturbation
