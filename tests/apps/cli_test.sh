@@ -388,5 +388,24 @@ expect_error "field.json: root.children\[0\].*radus" "$bin" export "$tmp/field.j
 expect_error "--fn" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --fn 2
 if [[ ! -e "$tmp/x.stl" && ! -e "$tmp/y.scad" && ! -e "$tmp/y.txt" ]]; then ok; else bad "export error left a file"; fi
 
+# raster: a 3D tree of meshed primitives as a PNG; trees it cannot draw refused in one line.
+if "$bin" raster "$src/examples/box_with_hole.json" -o "$tmp/r.png" --size 64 -q &&
+  [[ "$(head -c 8 "$tmp/r.png" | od -An -tx1 | tr -d ' \n')" == "89504e470d0a1a0a" ]]; then
+  ok
+else
+  bad "raster did not write a PNG"
+fi
+cat >"$tmp/torus.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+ "root": {"op": "union", "children": [{"type": "sphere", "radius": 0.5},
+   {"type": "torus", "major": 0.5, "minor": 0.1}]}}
+JSON
+expect_error "torus.json: root.children\[1\]: primitive type not supported" \
+  "$bin" raster "$tmp/torus.json" -o "$tmp/r2.png"
+expect_error "--camera" "$bin" raster "$tmp/sphere.json" -o "$tmp/r5.png" --camera 0,0
+expect_error "3D" "$bin" raster "$src/examples/cart_2d.json" -o "$tmp/r3.png"
+expect_error "--size" "$bin" raster "$src/examples/box_with_hole.json" -o "$tmp/r4.png" --size 0
+if [[ ! -e "$tmp/r2.png" && ! -e "$tmp/r3.png" && ! -e "$tmp/r4.png" && ! -e "$tmp/r5.png" ]]; then ok; else bad "raster error left a file"; fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

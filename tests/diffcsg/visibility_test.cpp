@@ -1,0 +1,201 @@
+// CSG visibility by rays: exact on boxes (their meshes are the shapes) against the crisp
+// evaluator along the same rays, the depth and normal of a cavity, a sphere's silhouette, and
+// the errors for trees the mesh renderer cannot draw.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/diffcsg/visibility.hpp"
+#include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
+
+namespace fuzzycsg::diffcsg {
+namespace {
+
+std::string numbers(std::initializer_list<double> v) {
+  std::string s = "[";
+  for (const double x : v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s%.17g", s.size() > 1 ? ", " : "", x);
+    s += buf;
+  }
+  return s + "]";
+}
+
+std::string tree_file(const std::string& root) {
+  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "domain": {"min": [-3, -3, -3], "max": [3, 3, 3]}, "root": )" +
+         root + "}";
+}
+
+// For every pixel, the distance along its ray to the first point inside the crisp tree
+// (occupancy 1), sampled every `h` over [near, far]; -1 where there is none.
+std::vector<double> march(const Tree& tree, const Camera& cam, double h, double near,
+                          double far) {
+  const int steps = static_cast<int>((far - near) / h);
+  const std::size_t pixels = static_cast<std::size_t>(cam.width) * cam.height;
+  std::vector<float> points(pixels * static_cast<std::size_t>(steps) * 3);
+  for (int j = 0; j < cam.height; ++j) {
+    for (int i = 0; i < cam.width; ++i) {
+      const Vec3 d = cam.ray(i, j);
+      const std::size_t px = static_cast<std::size_t>(j) * cam.width + i;
+      for (int s = 0; s < steps; ++s) {
+        const double t = near + s * h;
+        float* p = &points[(px * static_cast<std::size_t>(steps) + s) * 3];
+        for (int k = 0; k < 3; ++k) p[k] = static_cast<float>(cam.eye[k] + t * d[k]);
+      }
+    }
+  }
+  std::vector<float> occ(pixels * static_cast<std::size_t>(steps));
+  Evaluator(tree).forward(tree.params.values(), points, occ);
+  std::vector<double> first(pixels, -1);
+  for (std::size_t px = 0; px < pixels; ++px) {
+    for (int s = 0; s < steps; ++s) {
+      if (occ[px * static_cast<std::size_t>(steps) + s] > 0.75f) {
+        first[px] = near + s * h;
+        break;
+      }
+    }
+  }
+  return first;
+}
+
+TEST(DiffcsgVisibility, UnitMeshesAreClosedWithOutwardNormals) {
+  for (const TriMesh& m : {unit_box(), unit_sphere(0), unit_sphere(2), unit_cylinder(16)}) {
+    double volume = 0;
+    for (const auto& t : m.triangles) {
+      const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
+      const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
+      const Vec3& c = m.vertices[static_cast<std::size_t>(t[2])];
+      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+                 a[2] * (b[0] * c[1] - b[1] * c[0])) /
+                6;
+      // Every face's normal points away from the centre (the shapes are convex).
+      const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+      EXPECT_GT(n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) +
+                    n[2] * (a[2] + b[2] + c[2]),
+                0);
+    }
+    EXPECT_GT(volume, 0);
+  }
+  EXPECT_EQ(unit_sphere(2).triangles.size(), 320u);
+  EXPECT_EQ(unit_cylinder(16).triangles.size(), 64u);
+}
+
+TEST(DiffcsgVisibility, BoxTreesAgreeWithTheCrispEvaluatorAlongEveryRay) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  const char* ops[] = {"union", "intersection", "difference"};
+  int trees = 0, drawn = 0;
+  for (int k = 0; k < 6; ++k) {
+    const auto leaf = [&] {
+      return R"({"type": "box", "step": "crisp", "size": )" +
+             numbers({0.6 + u(rng), 0.6 + u(rng), 0.6 + u(rng)}) +
+             R"(, "translate": )" +
+             numbers({u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) + R"(, "rotate": )" +
+             numbers({90 * u(rng), 90 * u(rng), 90 * u(rng)}) + "}";
+    };
+    const auto op = [&](const std::string& a, const std::string& b) {
+      return std::string(R"({"op": ")") + ops[rng() % 3] + R"(", "children": [)" + a + ", " + b +
+             "]}";
+    };
+    const std::string text = tree_file(op(op(leaf(), leaf()), op(leaf(), leaf())));
+    const Tree tree = io::read_tree_string(text);
+    const Scene scene = scene_from_tree(tree, "random boxes");
+    ASSERT_EQ(scene.triangle_count(), 48u);
+    const Camera cam = Camera::orbit({0, 0, 0}, 30 + 40 * k, 25, 5, 32, 32, 40);
+    const Frame f = render_visibility(scene, cam, 2);
+    ++trees;
+    int mismatches = 0;
+    const double h = 4e-3;
+    const std::vector<double> first = march(tree, cam, h, 2.5, 7.5);
+    for (std::size_t px = 0; px < first.size(); ++px) {
+      const bool seen = f.primitive[px] >= 0;
+      if (seen != (first[px] >= 0) || (seen && std::abs(first[px] - f.depth[px]) > 2 * h)) {
+        ++mismatches;
+      }
+    }
+    if (f.visible_pixels() > 0) ++drawn;
+    // Only rays that graze an edge within the marching step may disagree.
+    EXPECT_LE(mismatches, f.width * f.height / 100) << text;
+  }
+  EXPECT_GE(drawn, 3) << "too few of the random trees are visible to test anything";
+  EXPECT_EQ(trees, 6);
+}
+
+TEST(DiffcsgVisibility, ACavityShowsItsFarSideFacingTheCamera) {
+  // A cube of side 2 less a ball of radius 0.6 centred on its face x = 1, seen along -x.
+  const Tree tree = io::read_tree_string(tree_file(
+      R"({"op": "difference", "children": [{"type": "box", "size": [2, 2, 2]},
+          {"type": "sphere", "radius": 0.6, "translate": [1, 0, 0]}]})"));
+  const Scene scene = scene_from_tree(tree, "cavity");
+  const Camera cam = Camera::orbit({0, 0, 0}, 0, 0, 5, 65, 65, 30);
+  const Frame f = render_visibility(scene, cam, 1);
+  const std::size_t centre = 32 * 65 + 32;
+  ASSERT_EQ(f.primitive[centre], 1) << "the ball's far side";
+  // The ball's mesh is inscribed: its far side is at most 2% of r nearer the ball's centre.
+  EXPECT_GE(f.depth[centre], 4.6 - 1e-4);
+  EXPECT_LE(f.depth[centre], 4.6 + 0.02 * 0.6);
+  EXPECT_GT(f.normal[centre][0], 0.95);  // facing the camera, into the ball
+  // Off the cavity, the cube's face at depth 4.
+  const std::size_t corner = 4 * 65 + 4;
+  ASSERT_EQ(f.primitive[corner], 0);
+  EXPECT_NEAR(f.depth[corner] * cam.ray(4, 4)[0] * -1, 4.0, 1e-4);
+  EXPECT_NEAR(f.normal[corner][0], 1.0, 1e-6);
+}
+
+TEST(DiffcsgVisibility, ASpheresSilhouetteAndALens) {
+  const auto sphere = [](double x) {
+    return R"({"type": "sphere", "radius": 0.5, "translate": )" + numbers({x, 0, 0}) + "}";
+  };
+  const Camera cam = Camera::orbit({0, 0, 0}, 90, 0, 5, 128, 128, 30);  // from +y
+  const Frame one = render_visibility(scene_from_tree(io::read_tree_string(tree_file(
+                                                          sphere(0))), "sphere"),
+                                      cam, 2);
+  const double angular = std::asin(0.5 / 5);
+  const double radius_px = std::tan(angular) / std::tan(15 * std::numbers::pi / 180) * 64;
+  const double area = std::numbers::pi * radius_px * radius_px;
+  EXPECT_GT(one.visible_pixels(), 0.94 * area);
+  EXPECT_LT(one.visible_pixels(), 1.01 * area);
+
+  const std::string two = sphere(-0.3) + ", " + sphere(0.3);
+  const Frame u = render_visibility(
+      scene_from_tree(io::read_tree_string(tree_file(R"({"op": "union", "children": [)" + two +
+                                                     "]}")),
+                      "union"),
+      cam, 2);
+  const Frame lens = render_visibility(
+      scene_from_tree(io::read_tree_string(tree_file(
+                          R"({"op": "intersection", "children": [)" + two + "]}")),
+                      "lens"),
+      cam, 2);
+  EXPECT_GT(u.visible_pixels(), one.visible_pixels());
+  EXPECT_LT(lens.visible_pixels(), one.visible_pixels());
+  EXPECT_GT(lens.visible_pixels(), 0);
+}
+
+TEST(DiffcsgVisibility, TreesItCannotDrawAreRefusedNamingTheNode) {
+  const auto refused = [](const std::string& text, const std::string& expect) {
+    try {
+      scene_from_tree(io::read_tree_string(text), "model.json");
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  };
+  refused(tree_file(R"({"op": "union", "children": [{"type": "sphere", "radius": 1},
+      {"type": "torus", "major": 1, "minor": 0.2}]})"),
+          "root.children[1]");
+  refused(tree_file(R"({"op": "complement", "children": [{"type": "sphere", "radius": 1}]})"),
+          "complement");
+  refused(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 1}})",
+          "3D");
+}
+
+}  // namespace
+}  // namespace fuzzycsg::diffcsg
