@@ -1,13 +1,15 @@
 // fuzzycsg raster MODEL -o OUT.png [--camera AZ,EL,DIST] [--size W[,H]] [--fov DEG]
 //                  [--normals | --colors]
 //
-// A 3D tree of boxes, spheres and cylinders drawn as CSG of meshed primitives (DiffCSG's
-// forward pass): the visible surface of every pixel found by rays through all primitives'
-// meshes (fuzzycsg/diffcsg/visibility.hpp), written as a normal map (the default; RGB =
-// (n + 1) / 2) or in each primitive's colour; background transparent.
+// A 3D tree of boxes, spheres and cylinders, or an OpenSCAD model in its flattened .csg form
+// (diffcsg/openscad_csg.hpp), drawn as CSG of meshed primitives (DiffCSG's forward pass): the
+// visible surface of every pixel found by rays through all primitives' meshes
+// (fuzzycsg/diffcsg/visibility.hpp), written as a normal map (the default; RGB = (n + 1) / 2) or in
+// each primitive's colour; background transparent.
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -18,6 +20,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 #include "fuzzycsg/io/png.hpp"
 #include "fuzzycsg/io/points.hpp"
@@ -38,15 +41,15 @@ struct RasterArgs {
 
 // Tableau's ten colours.
 constexpr std::array<std::array<unsigned char, 3>, 10> kPalette{{{31, 119, 180},
-                                                                  {255, 127, 14},
-                                                                  {44, 160, 44},
-                                                                  {214, 39, 40},
-                                                                  {148, 103, 189},
-                                                                  {140, 86, 75},
-                                                                  {227, 119, 194},
-                                                                  {127, 127, 127},
-                                                                  {188, 189, 34},
-                                                                  {23, 190, 207}}};
+                                                                 {255, 127, 14},
+                                                                 {44, 160, 44},
+                                                                 {214, 39, 40},
+                                                                 {148, 103, 189},
+                                                                 {140, 86, 75},
+                                                                 {227, 119, 194},
+                                                                 {127, 127, 127},
+                                                                 {188, 189, 34},
+                                                                 {23, 190, 207}}};
 
 int run_raster(const RasterArgs& a) {
   if (a.camera.size() != 3) throw InputError("--camera: three numbers AZ,EL,DIST expected");
@@ -55,18 +58,28 @@ int run_raster(const RasterArgs& a) {
     throw InputError("--size: W or W,H in [1, 8192] expected");
   }
   if (!(a.fov > 0 && a.fov < 180)) throw InputError("--fov: must be in (0, 180) degrees");
-  const Tree tree = io::read_tree_file(a.model);
   diffcsg::TessellationOptions t;
   t.sphere_subdivisions = a.sphere_subdivisions;
   t.cylinder_segments = a.cylinder_segments;
-  const diffcsg::Scene scene = diffcsg::scene_from_tree(tree, a.model, t);
-  const Domain dom = tree.domain_or_default();
-  const diffcsg::Vec3 centre{(dom.min[0] + dom.max[0]) / 2, (dom.min[1] + dom.max[1]) / 2,
-                             (dom.min[2] + dom.max[2]) / 2};
+  const bool openscad = std::filesystem::path(a.model).extension() == ".csg";
+  const diffcsg::Scene scene =
+      openscad ? diffcsg::read_openscad_csg(a.model)
+               : diffcsg::scene_from_tree(io::read_tree_file(a.model), a.model, t);
+  // Aimed at the centre of the primitives' bounding box; by default far enough for its
+  // bounding sphere to fill the view.
+  diffcsg::Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const diffcsg::TriMesh& m : scene.primitives) {
+    for (const diffcsg::Vec3& v : m.vertices) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], v[k]);
+        hi[k] = std::max(hi[k], v[k]);
+      }
+    }
+  }
+  const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
   double diagonal = 0;
-  for (int k = 0; k < 3; ++k) diagonal += (dom.max[k] - dom.min[k]) * (dom.max[k] - dom.min[k]);
+  for (int k = 0; k < 3; ++k) diagonal += (hi[k] - lo[k]) * (hi[k] - lo[k]);
   diagonal = std::sqrt(diagonal);
-  // By default far enough for the domain's bounding sphere to fill the view.
   const double distance =
       a.camera[2] > 0 ? a.camera[2]
                       : diagonal / 2 / std::sin(a.fov * 3.14159265358979323846 / 360) * 1.05;
@@ -86,11 +99,11 @@ int run_raster(const RasterArgs& a) {
       // Shaded by the normal's facing, so that faces of one primitive stay apart.
       const diffcsg::Vec3 d = cam.ray(static_cast<int>(p % static_cast<std::size_t>(w)),
                                       static_cast<int>(p / static_cast<std::size_t>(w)));
-      const double facing = std::abs(d[0] * f.normal[p][0] + d[1] * f.normal[p][1] +
-                                     d[2] * f.normal[p][2]);
+      const double facing =
+          std::abs(d[0] * f.normal[p][0] + d[1] * f.normal[p][1] + d[2] * f.normal[p][2]);
       for (int k = 0; k < 3; ++k) {
-        o[k] = static_cast<unsigned char>(std::lround(c[static_cast<std::size_t>(k)] *
-                                                      (0.35 + 0.65 * facing)));
+        o[k] = static_cast<unsigned char>(
+            std::lround(c[static_cast<std::size_t>(k)] * (0.35 + 0.65 * facing)));
       }
     } else {
       for (int k = 0; k < 3; ++k) {
@@ -113,13 +126,16 @@ int run_raster(const RasterArgs& a) {
 Verb register_raster(CLI::App& app) {
   auto a = std::make_shared<RasterArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "raster", "A 3D tree of boxes, spheres and cylinders drawn as CSG of meshes (normals or "
-                "colours)");
-  cmd->add_option("model", a->model, "Tree file (3D; box, sphere, cylinder leaves)")->required();
+      "raster",
+      "A 3D tree of boxes, spheres and cylinders drawn as CSG of meshes (normals or "
+      "colours)");
+  cmd->add_option("model", a->model,
+                  "Tree file (3D; box, sphere, cylinder leaves) or OpenSCAD .csg")
+      ->required();
   cmd->add_option("-o,--output", a->out, "Output PNG")->required();
   cmd->add_option("--camera", a->camera,
                   "AZ,EL,DIST: degrees about +z from +x, degrees above the xy plane, distance "
-                  "from the domain's centre (0: the domain fills the view)")
+                  "from the primitives' centre (0: they fill the view)")
       ->delimiter(',')
       ->expected(3);
   cmd->add_option("--size", a->size, "W or W,H pixels")->delimiter(',')->expected(1, 2);

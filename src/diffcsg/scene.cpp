@@ -31,8 +31,8 @@ TriMesh unit_box() {
 TriMesh unit_sphere(int subdivisions) {
   const double g = (1 + std::sqrt(5.0)) / 2;
   TriMesh m;
-  m.vertices = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  m.vertices = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                  {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                  {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -164,10 +164,10 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
           break;
         }
         default:
-          throw InputError(fmt::format(
-              "{}: {}: primitive type not supported by the mesh renderer (box, sphere, "
-              "cylinder)",
-              source, where));
+          throw InputError(
+              fmt::format("{}: {}: primitive type not supported by the mesh renderer (box, sphere, "
+                          "cylinder)",
+                          source, where));
       }
       Vec3 t{0, 0, 0};
       for (std::size_t k = 0; k < n.placement.translate.size() && k < 3; ++k) {
@@ -202,10 +202,10 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
           out.kind = CsgNode::Kind::kDifference;
           break;
         default:
-          throw InputError(fmt::format(
-              "{}: {}: operator \"{}\" not supported by the mesh renderer (union, "
-              "intersection, difference, unified)",
-              source, where, op_name(n.op)));
+          throw InputError(
+              fmt::format("{}: {}: operator \"{}\" not supported by the mesh renderer (union, "
+                          "intersection, difference, unified)",
+                          source, where, op_name(n.op)));
       }
       for (const int c : n.children) out.children.push_back(self(self, c));
     }

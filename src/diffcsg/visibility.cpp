@@ -97,15 +97,15 @@ Vec3 Camera::ray(int i, int j) const {
 }
 
 int Frame::visible_pixels() const {
-  return static_cast<int>(std::count_if(primitive.begin(), primitive.end(),
-                                        [](int p) { return p >= 0; }));
+  return static_cast<int>(
+      std::count_if(primitive.begin(), primitive.end(), [](int p) { return p >= 0; }));
 }
 
 Frame render_visibility(const Scene& scene, const Camera& camera, int threads) {
   if (camera.width < 1 || camera.height < 1 ||
       static_cast<long long>(camera.width) * camera.height > (1ll << 26)) {
-    throw InputError(fmt::format("camera: {}x{} pixels: out of range", camera.width,
-                                 camera.height));
+    throw InputError(
+        fmt::format("camera: {}x{} pixels: out of range", camera.width, camera.height));
   }
   if (!(camera.fov_deg > 0 && camera.fov_deg < 180)) {
     throw InputError("camera: the field of view must be in (0, 180) degrees");
@@ -152,127 +152,128 @@ Frame render_visibility(const Scene& scene, const Camera& camera, int threads) {
   f.normal.assign(pixels, {0, 0, 0});
   const std::size_t np = scene.primitives.size();
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, f.height), [&](const tbb::blocked_range<int>& rows) {
-      std::vector<Hit> hits;
-      std::vector<std::uint8_t> inside(np);
-      std::vector<int> winding(np);
-      std::vector<Crossing> crossings;
-      Collector c;
-      c.hits = &hits;
-      for (int j = rows.begin(); j != rows.end(); ++j) {
-        for (int i = 0; i < f.width; ++i) {
-          const Vec3 d = camera.ray(i, j);
-          hits.clear();
-          rtcInitIntersectContext(&c.context);
-          c.context.filter = collect;
-          RTCRayHit rh;
-          rh.ray.org_x = static_cast<float>(camera.eye[0]);
-          rh.ray.org_y = static_cast<float>(camera.eye[1]);
-          rh.ray.org_z = static_cast<float>(camera.eye[2]);
-          rh.ray.dir_x = static_cast<float>(d[0]);
-          rh.ray.dir_y = static_cast<float>(d[1]);
-          rh.ray.dir_z = static_cast<float>(d[2]);
-          rh.ray.tnear = 0;
-          rh.ray.tfar = std::numeric_limits<float>::infinity();
-          rh.ray.time = 0;
-          rh.ray.mask = ~0u;
-          rh.ray.id = 0;
-          rh.ray.flags = 0;
-          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-          rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-          rtcIntersect1(rtc.get(), &c.context, &rh);
-          if (hits.empty()) continue;
-          std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
-            return a.t != b.t ? a.t < b.t
-                              : (a.geometry != b.geometry ? a.geometry < b.geometry
-                                                          : a.triangle < b.triangle);
-          });
-          // A BVH may report a triangle twice: keep one of each.
-          hits.erase(std::unique(hits.begin(), hits.end(),
-                                 [](const Hit& a, const Hit& b) {
-                                   return a.t == b.t && a.geometry == b.geometry &&
-                                          a.triangle == b.triangle;
-                                 }),
-                     hits.end());
-          // Each hit enters its primitive (the face's outward normal against the ray) or
-          // leaves it. A ray through an edge or a vertex meets every face there at the same
-          // depth: those hits are one crossing of that primitive, entering or leaving by their
-          // majority (none at a silhouette, where they tie). The ray ends outside every
-          // primitive, so the camera's winding number in a primitive is minus the sum of its
-          // crossings (a camera inside a primitive is handled); a point is inside where its
-          // winding number is positive.
-          for (Hit& h : hits) {
-            const TriMesh& m = scene.primitives[h.geometry];
-            const auto& tri = m.triangles[h.triangle];
-            const Vec3 n = cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
-                                     m.vertices[static_cast<std::size_t>(tri[0])]),
-                                 sub(m.vertices[static_cast<std::size_t>(tri[2])],
-                                     m.vertices[static_cast<std::size_t>(tri[0])]));
-            const double side = dot(n, d);
-            h.sign = side < 0 ? 1 : (side > 0 ? -1 : 0);
-          }
-          const float scale = std::max(1.0f, hits.back().t);
-          crossings.clear();
-          for (std::size_t k = 0; k < hits.size();) {
-            std::size_t e = k;
-            while (e < hits.size() && hits[e].t - hits[k].t <= 1e-6f * scale) ++e;
-            // Hits [k, e) are at one depth: one crossing per primitive among them.
-            for (std::size_t q = k; q < e; ++q) {
-              bool first = true;
-              int sum = 0;
-              for (std::size_t r = k; r < e; ++r) {
-                if (hits[r].geometry != hits[q].geometry) continue;
-                if (r < q) first = false;
-                sum += hits[r].sign;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, f.height), [&](const tbb::blocked_range<int>& rows) {
+          std::vector<Hit> hits;
+          std::vector<std::uint8_t> inside(np);
+          std::vector<int> winding(np);
+          std::vector<Crossing> crossings;
+          Collector c;
+          c.hits = &hits;
+          for (int j = rows.begin(); j != rows.end(); ++j) {
+            for (int i = 0; i < f.width; ++i) {
+              const Vec3 d = camera.ray(i, j);
+              hits.clear();
+              rtcInitIntersectContext(&c.context);
+              c.context.filter = collect;
+              RTCRayHit rh;
+              rh.ray.org_x = static_cast<float>(camera.eye[0]);
+              rh.ray.org_y = static_cast<float>(camera.eye[1]);
+              rh.ray.org_z = static_cast<float>(camera.eye[2]);
+              rh.ray.dir_x = static_cast<float>(d[0]);
+              rh.ray.dir_y = static_cast<float>(d[1]);
+              rh.ray.dir_z = static_cast<float>(d[2]);
+              rh.ray.tnear = 0;
+              rh.ray.tfar = std::numeric_limits<float>::infinity();
+              rh.ray.time = 0;
+              rh.ray.mask = ~0u;
+              rh.ray.id = 0;
+              rh.ray.flags = 0;
+              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+              rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+              rtcIntersect1(rtc.get(), &c.context, &rh);
+              if (hits.empty()) continue;
+              std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) {
+                return a.t != b.t ? a.t < b.t
+                                  : (a.geometry != b.geometry ? a.geometry < b.geometry
+                                                              : a.triangle < b.triangle);
+              });
+              // A BVH may report a triangle twice: keep one of each.
+              hits.erase(std::unique(hits.begin(), hits.end(),
+                                     [](const Hit& a, const Hit& b) {
+                                       return a.t == b.t && a.geometry == b.geometry &&
+                                              a.triangle == b.triangle;
+                                     }),
+                         hits.end());
+              // Each hit enters its primitive (the face's outward normal against the ray) or
+              // leaves it. A ray through an edge or a vertex meets every face there at the same
+              // depth: those hits are one crossing of that primitive, entering or leaving by their
+              // majority (none at a silhouette, where they tie). The ray ends outside every
+              // primitive, so the camera's winding number in a primitive is minus the sum of its
+              // crossings (a camera inside a primitive is handled); a point is inside where its
+              // winding number is positive.
+              for (Hit& h : hits) {
+                const TriMesh& m = scene.primitives[h.geometry];
+                const auto& tri = m.triangles[h.triangle];
+                const Vec3 n = cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
+                                         m.vertices[static_cast<std::size_t>(tri[0])]),
+                                     sub(m.vertices[static_cast<std::size_t>(tri[2])],
+                                         m.vertices[static_cast<std::size_t>(tri[0])]));
+                const double side = dot(n, d);
+                h.sign = side < 0 ? 1 : (side > 0 ? -1 : 0);
               }
-              if (first) crossings.push_back({q, hits[q].geometry, (sum > 0) - (sum < 0), k});
-            }
-            k = e;
-          }
-          std::fill(winding.begin(), winding.end(), 0);
-          for (const Crossing& x : crossings) winding[x.geometry] -= x.sign;
-          for (std::size_t p = 0; p < np; ++p) inside[p] = winding[p] > 0;
-          bool solid = scene.solid(inside);
-          for (std::size_t k = 0; k < crossings.size();) {
-            // Crossings at one depth (coplanar faces of different primitives) act together.
-            std::size_t e = k;
-            while (e < crossings.size() && crossings[e].group == crossings[k].group) {
-              winding[crossings[e].geometry] += crossings[e].sign;
-              inside[crossings[e].geometry] = winding[crossings[e].geometry] > 0;
-              ++e;
-            }
-            const bool now = scene.solid(inside);
-            if (!solid && now) {
-              std::size_t shown = k;  // a crossing that enters or leaves, if there is one
-              for (std::size_t q = k; q < e; ++q) {
-                if (crossings[q].sign != 0) {
-                  shown = q;
+              const float scale = std::max(1.0f, hits.back().t);
+              crossings.clear();
+              for (std::size_t k = 0; k < hits.size();) {
+                std::size_t e = k;
+                while (e < hits.size() && hits[e].t - hits[k].t <= 1e-6f * scale) ++e;
+                // Hits [k, e) are at one depth: one crossing per primitive among them.
+                for (std::size_t q = k; q < e; ++q) {
+                  bool first = true;
+                  int sum = 0;
+                  for (std::size_t r = k; r < e; ++r) {
+                    if (hits[r].geometry != hits[q].geometry) continue;
+                    if (r < q) first = false;
+                    sum += hits[r].sign;
+                  }
+                  if (first) crossings.push_back({q, hits[q].geometry, (sum > 0) - (sum < 0), k});
+                }
+                k = e;
+              }
+              std::fill(winding.begin(), winding.end(), 0);
+              for (const Crossing& x : crossings) winding[x.geometry] -= x.sign;
+              for (std::size_t p = 0; p < np; ++p) inside[p] = winding[p] > 0;
+              bool solid = scene.solid(inside);
+              for (std::size_t k = 0; k < crossings.size();) {
+                // Crossings at one depth (coplanar faces of different primitives) act together.
+                std::size_t e = k;
+                while (e < crossings.size() && crossings[e].group == crossings[k].group) {
+                  winding[crossings[e].geometry] += crossings[e].sign;
+                  inside[crossings[e].geometry] = winding[crossings[e].geometry] > 0;
+                  ++e;
+                }
+                const bool now = scene.solid(inside);
+                if (!solid && now) {
+                  std::size_t shown = k;  // a crossing that enters or leaves, if there is one
+                  for (std::size_t q = k; q < e; ++q) {
+                    if (crossings[q].sign != 0) {
+                      shown = q;
+                      break;
+                    }
+                  }
+                  const Hit& h = hits[crossings[shown].hit];
+                  const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
+                  const TriMesh& m = scene.primitives[h.geometry];
+                  const auto& tri = m.triangles[h.triangle];
+                  Vec3 n = normalised(cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
+                                                m.vertices[static_cast<std::size_t>(tri[0])]),
+                                            sub(m.vertices[static_cast<std::size_t>(tri[2])],
+                                                m.vertices[static_cast<std::size_t>(tri[0])])));
+                  if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
+                  f.primitive[px] = static_cast<int>(h.geometry);
+                  f.triangle[px] = static_cast<int>(h.triangle);
+                  f.depth[px] = h.t;
+                  f.barycentric[px] = {h.u, h.v};
+                  f.normal[px] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
+                                  static_cast<float>(n[2])};
                   break;
                 }
+                solid = now;
+                k = e;
               }
-              const Hit& h = hits[crossings[shown].hit];
-              const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
-              const TriMesh& m = scene.primitives[h.geometry];
-              const auto& tri = m.triangles[h.triangle];
-              Vec3 n = normalised(cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
-                                            m.vertices[static_cast<std::size_t>(tri[0])]),
-                                        sub(m.vertices[static_cast<std::size_t>(tri[2])],
-                                            m.vertices[static_cast<std::size_t>(tri[0])])));
-              if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
-              f.primitive[px] = static_cast<int>(h.geometry);
-              f.triangle[px] = static_cast<int>(h.triangle);
-              f.depth[px] = h.t;
-              f.barycentric[px] = {h.u, h.v};
-              f.normal[px] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
-                              static_cast<float>(n[2])};
-              break;
             }
-            solid = now;
-            k = e;
           }
-        }
-      }
-    });
+        });
   });
   return f;
 }

@@ -34,8 +34,7 @@ std::string tree_file(const std::string& root) {
 
 // For every pixel, the distance along its ray to the first point inside the crisp tree
 // (occupancy 1), sampled every `h` over [near, far]; -1 where there is none.
-std::vector<double> march(const Tree& tree, const Camera& cam, double h, double near,
-                          double far) {
+std::vector<double> march(const Tree& tree, const Camera& cam, double h, double near, double far) {
   const int steps = static_cast<int>((far - near) / h);
   const std::size_t pixels = static_cast<std::size_t>(cam.width) * cam.height;
   std::vector<float> points(pixels * static_cast<std::size_t>(steps) * 3);
@@ -77,9 +76,9 @@ TEST(DiffcsgVisibility, UnitMeshesAreClosedWithOutwardNormals) {
       // Every face's normal points away from the centre (the shapes are convex).
       const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-      EXPECT_GT(n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) +
-                    n[2] * (a[2] + b[2] + c[2]),
-                0);
+      EXPECT_GT(
+          n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2]),
+          0);
     }
     EXPECT_GT(volume, 0);
   }
@@ -95,8 +94,7 @@ TEST(DiffcsgVisibility, BoxTreesAgreeWithTheCrispEvaluatorAlongEveryRay) {
   for (int k = 0; k < 6; ++k) {
     const auto leaf = [&] {
       return R"({"type": "box", "step": "crisp", "size": )" +
-             numbers({0.6 + u(rng), 0.6 + u(rng), 0.6 + u(rng)}) +
-             R"(, "translate": )" +
+             numbers({0.6 + u(rng), 0.6 + u(rng), 0.6 + u(rng)}) + R"(, "translate": )" +
              numbers({u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) + R"(, "rotate": )" +
              numbers({90 * u(rng), 90 * u(rng), 90 * u(rng)}) + "}";
     };
@@ -154,9 +152,8 @@ TEST(DiffcsgVisibility, ASpheresSilhouetteAndALens) {
     return R"({"type": "sphere", "radius": 0.5, "translate": )" + numbers({x, 0, 0}) + "}";
   };
   const Camera cam = Camera::orbit({0, 0, 0}, 90, 0, 5, 128, 128, 30);  // from +y
-  const Frame one = render_visibility(scene_from_tree(io::read_tree_string(tree_file(
-                                                          sphere(0))), "sphere"),
-                                      cam, 2);
+  const Frame one = render_visibility(
+      scene_from_tree(io::read_tree_string(tree_file(sphere(0))), "sphere"), cam, 2);
   const double angular = std::asin(0.5 / 5);
   const double radius_px = std::tan(angular) / std::tan(15 * std::numbers::pi / 180) * 64;
   const double area = std::numbers::pi * radius_px * radius_px;
@@ -165,14 +162,14 @@ TEST(DiffcsgVisibility, ASpheresSilhouetteAndALens) {
 
   const std::string two = sphere(-0.3) + ", " + sphere(0.3);
   const Frame u = render_visibility(
-      scene_from_tree(io::read_tree_string(tree_file(R"({"op": "union", "children": [)" + two +
-                                                     "]}")),
-                      "union"),
+      scene_from_tree(
+          io::read_tree_string(tree_file(R"({"op": "union", "children": [)" + two + "]}")),
+          "union"),
       cam, 2);
   const Frame lens = render_visibility(
-      scene_from_tree(io::read_tree_string(tree_file(
-                          R"({"op": "intersection", "children": [)" + two + "]}")),
-                      "lens"),
+      scene_from_tree(
+          io::read_tree_string(tree_file(R"({"op": "intersection", "children": [)" + two + "]}")),
+          "lens"),
       cam, 2);
   EXPECT_GT(u.visible_pixels(), one.visible_pixels());
   EXPECT_LT(lens.visible_pixels(), one.visible_pixels());
@@ -193,8 +190,9 @@ TEST(DiffcsgVisibility, TreesItCannotDrawAreRefusedNamingTheNode) {
           "root.children[1]");
   refused(tree_file(R"({"op": "complement", "children": [{"type": "sphere", "radius": 1}]})"),
           "complement");
-  refused(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 1}})",
-          "3D");
+  refused(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 1}})",
+      "3D");
 }
 
 }  // namespace

@@ -37,9 +37,9 @@ struct Camera {
 struct Frame {
   int width = 0, height = 0;
   std::vector<int> primitive, triangle;
-  std::vector<float> depth;                // distance along the ray
+  std::vector<float> depth;                       // distance along the ray
   std::vector<std::array<float, 2>> barycentric;  // (u, v): the hit is (1-u-v) a + u b + v c
-  std::vector<std::array<float, 3>> normal;  // the solid's outward normal (faces the camera)
+  std::vector<std::array<float, 3>> normal;       // the solid's outward normal (faces the camera)
   int visible_pixels() const;
 };
 

@@ -1,0 +1,145 @@
+// OpenSCAD's flattened .csg models as meshed CSG: the shared examples parse, their spheres and
+// cylinders are tessellated as OpenSCAD does, and drawn by rays they match OpenSCAD's own
+// CGAL mesh of the same model (its .ref.off) drawn the same way; unsupported nodes and broken
+// text are refused naming the line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/diffcsg/openscad_csg.hpp"
+#include "fuzzycsg/diffcsg/visibility.hpp"
+
+namespace fuzzycsg::diffcsg {
+namespace {
+
+const std::filesystem::path kScad = std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "scad";
+
+// An OFF mesh as a one-primitive scene (polygons as fans), normals turned outward.
+Scene read_off(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string magic;
+  in >> magic;
+  std::size_t nv = 0, nf = 0, ne = 0;
+  in >> nv >> nf >> ne;
+  TriMesh m;
+  for (std::size_t v = 0; v < nv; ++v) {
+    Vec3 p;
+    in >> p[0] >> p[1] >> p[2];
+    m.vertices.push_back(p);
+  }
+  for (std::size_t f = 0; f < nf; ++f) {
+    int n = 0;
+    in >> n;
+    std::vector<int> idx(static_cast<std::size_t>(n));
+    for (int& i : idx) in >> i;
+    for (int k = 1; k + 1 < n; ++k) {
+      m.triangles.push_back({idx[0], idx[static_cast<std::size_t>(k)],
+                             idx[static_cast<std::size_t>(k + 1)]});
+    }
+  }
+  double volume = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
+    const Vec3& c = m.vertices[static_cast<std::size_t>(t[2])];
+    volume += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+              a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  if (volume < 0) {
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  }
+  Scene s;
+  s.primitives.push_back(std::move(m));
+  s.tree_node.push_back(0);
+  s.nodes.push_back({CsgNode::Kind::kPrimitive, 0, {}});
+  s.root = 0;
+  return s;
+}
+
+TEST(DiffcsgOpenscad, FragmentsAsOpenscadCountsThem) {
+  EXPECT_EQ(openscad_fragments(10, 0, 2, 12), 30);
+  EXPECT_EQ(openscad_fragments(25, 100, 2, 12), 100);
+  EXPECT_EQ(openscad_fragments(0.5, 0, 2, 12), 5);
+  EXPECT_EQ(openscad_fragments(3, 0, 2, 12), 10);  // 2 pi 3 / 2 = 9.42
+  EXPECT_EQ(openscad_fragments(1e-9, 0, 2, 12), 3);
+  EXPECT_EQ(openscad_fragments(5, 2, 2, 12), 3);
+}
+
+TEST(DiffcsgOpenscad, TheExamplesMatchOpenscadsOwnMeshes) {
+  struct Case {
+    const char* name;
+    std::size_t primitives;
+  };
+  for (const Case& c : {Case{"Basics/CSG", 6}, Case{"Basics/logo", 4}, Case{"Old/example001", 4},
+                        Case{"Old/example003", 7}, Case{"Old/example004", 2}}) {
+    SCOPED_TRACE(c.name);
+    const Scene model = read_openscad_csg(kScad / (std::string(c.name) + ".openscad.csg"));
+    EXPECT_EQ(model.primitives.size(), c.primitives);
+    for (const TriMesh& m : model.primitives) {
+      // Convex primitives: every face's normal points away from the primitive's centre.
+      Vec3 centre{0, 0, 0};
+      for (const Vec3& v : m.vertices) {
+        for (int k = 0; k < 3; ++k) centre[k] += v[k] / static_cast<double>(m.vertices.size());
+      }
+      int inward = 0;
+      for (const auto& t : m.triangles) {
+        const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
+        const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
+        const Vec3& d = m.vertices[static_cast<std::size_t>(t[2])];
+        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const double out = n[0] * (a[0] - centre[0]) + n[1] * (a[1] - centre[1]) + n[2] * (a[2] - centre[2]);
+        inward += out < 0;
+      }
+      EXPECT_EQ(inward, 0);
+    }
+    const Scene reference = read_off(kScad / (std::string(c.name) + ".ref.off"));
+    for (const double azimuth : {30.0, 200.0}) {
+      const Camera cam = Camera::orbit({0, 0, 0}, azimuth, 30, 160, 96, 96, 30);
+      const Frame a = render_visibility(model, cam, 2), b = render_visibility(reference, cam, 2);
+      int both = 0, either = 0, normals_apart = 0;
+      for (std::size_t p = 0; p < a.primitive.size(); ++p) {
+        const bool x = a.primitive[p] >= 0, y = b.primitive[p] >= 0;
+        both += x && y;
+        either += x || y;
+        if (x && y) {
+          const auto& n = a.normal[p];
+          const auto& m = b.normal[p];
+          normals_apart += n[0] * m[0] + n[1] * m[1] + n[2] * m[2] < 0.9;
+        }
+      }
+      ASSERT_GT(either, 100);
+      // The same tessellation: only pixels on edges may differ.
+      EXPECT_GT(static_cast<double>(both) / either, 0.97) << "azimuth " << azimuth;
+      EXPECT_LT(normals_apart, both / 50) << "azimuth " << azimuth;
+    }
+  }
+}
+
+TEST(DiffcsgOpenscad, UnsupportedNodesAndBrokenTextAreRefusedNamingTheLine) {
+  const auto refused = [](const std::string& text, const std::string& expect) {
+    try {
+      parse_openscad_csg(text, "m.csg");
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  };
+  refused("union() {\n  cube(size = 1);\n  linear_extrude(height = 2) { square(1); }\n}\n",
+          "m.csg: line 3: unsupported node 'linear_extrude'");
+  refused("cube(size = [1, 2]);", "m.csg: line 1: cube: size");
+  refused("union() {\n cube(1);\n", "missing '}'");
+  refused("sphere(r = -1);", "r: must be positive");
+  refused("cube(size = 1)", "expected ';'");
+  refused("group() { }", "no primitives");
+  refused("%cube(1);", "no primitives");
+  EXPECT_EQ(parse_openscad_csg("*sphere(1); #cube(1); !cylinder(h = 1, r = 1);", "m.csg")
+                .primitives.size(),
+            2u);
+}
+
+}  // namespace
+}  // namespace fuzzycsg::diffcsg
