@@ -19,7 +19,8 @@ int openscad_fragments(double r, double fn, double fs, double fa) {
   constexpr double kGridFine = 0.00000095367431640625;
   if (r < kGridFine) return 3;
   if (fn > 0.0) return static_cast<int>(fn >= 3 ? fn : 3);
-  return static_cast<int>(std::ceil(std::fmax(std::fmin(360.0 / fa, r * 2 * std::numbers::pi / fs), 5)));
+  return static_cast<int>(
+      std::ceil(std::fmax(std::fmin(360.0 / fa, r * 2 * std::numbers::pi / fs), 5)));
 }
 
 namespace {
@@ -101,8 +102,8 @@ class Parser {
   std::string identifier() {
     skip();
     const std::size_t b = i_;
-    while (!at_end() && (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_' ||
-                         s_[i_] == '$')) {
+    while (!at_end() &&
+           (std::isalnum(static_cast<unsigned char>(s_[i_])) || s_[i_] == '_' || s_[i_] == '$')) {
       ++i_;
     }
     if (b == i_) fail("expected a name");
@@ -264,11 +265,13 @@ class Builder {
     }
     if (st.name == "multmatrix") {
       const Value* v = arg(st, "m", 0);
-      if (!v || v->kind != Value::Kind::kVector || v->items.size() < 3) fail("m: a 4x4 matrix expected");
+      if (!v || v->kind != Value::Kind::kVector || v->items.size() < 3)
+        fail("m: a 4x4 matrix expected");
       Matrix local{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
       for (std::size_t r = 0; r < v->items.size() && r < 4; ++r) {
         const Value& row = v->items[r];
-        if (row.kind != Value::Kind::kVector || row.items.size() != 4) fail("m: rows of 4 numbers expected");
+        if (row.kind != Value::Kind::kVector || row.items.size() != 4)
+          fail("m: rows of 4 numbers expected");
         for (std::size_t k = 0; k < 4; ++k) {
           if (row.items[k].kind != Value::Kind::kNumber) fail("m: rows of 4 numbers expected");
           local[r * 4 + k] = row.items[k].number;
@@ -277,9 +280,10 @@ class Builder {
       return op(CsgNode::Kind::kUnion, children(st, multiply(m, local)));
     }
     if (st.name != "cube" && st.name != "sphere" && st.name != "cylinder") {
-      throw InputError(fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
-                                   "multmatrix, union, difference, intersection, group)",
-                                   source_, st.line, st.name));
+      throw InputError(
+          fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
+                      "multmatrix, union, difference, intersection, group)",
+                      source_, st.line, st.name));
     }
     if (!st.children.empty()) fail("a primitive has no children");
     const double fn = number(st, "$fn", 0), fa = number(st, "$fa", 12), fs = number(st, "$fs", 2);
@@ -339,8 +343,12 @@ class Builder {
       const double h = number(st, "h", 1);
       double r1 = number(st, "r1", -1), r2 = number(st, "r2", -1);
       const double r = number(st, "r", -1);
-      if (r1 < 0) r1 = arg(st, "d1", -1) ? number(st, "d1", 0) / 2 : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
-      if (r2 < 0) r2 = arg(st, "d2", -1) ? number(st, "d2", 0) / 2 : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
+      if (r1 < 0)
+        r1 = arg(st, "d1", -1) ? number(st, "d1", 0) / 2
+                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
+      if (r2 < 0)
+        r2 = arg(st, "d2", -1) ? number(st, "d2", 0) / 2
+                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
       if (!(h > 0) || r1 < 0 || r2 < 0 || !(r1 > 0 || r2 > 0)) {
         fail("h must be positive and r1, r2 not negative, one of them positive");
       }
@@ -371,16 +379,18 @@ class Builder {
         if (r2 > 0) mesh.triangles.push_back({vt(0), vt(j), vt(j + 1)});
       }
     } else {
-      throw InputError(fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
-                                   "multmatrix, union, difference, intersection, group)",
-                                   source_, st.line, st.name));
+      throw InputError(
+          fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
+                      "multmatrix, union, difference, intersection, group)",
+                      source_, st.line, st.name));
     }
     // Into the world, with outward normals (a mirroring matrix turns the winding over).
     double volume = 0;
     for (Vec3& p : mesh.vertices) {
       const Vec3 q = p;
       for (int r = 0; r < 3; ++r) {
-        p[static_cast<std::size_t>(r)] = m[r * 4] * q[0] + m[r * 4 + 1] * q[1] + m[r * 4 + 2] * q[2] + m[r * 4 + 3];
+        p[static_cast<std::size_t>(r)] =
+            m[r * 4] * q[0] + m[r * 4 + 1] * q[1] + m[r * 4 + 2] * q[2] + m[r * 4 + 3];
       }
     }
     for (const auto& tri : mesh.triangles) {

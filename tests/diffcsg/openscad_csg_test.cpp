@@ -36,8 +36,8 @@ Scene read_off(const std::filesystem::path& path) {
     std::vector<int> idx(static_cast<std::size_t>(n));
     for (int& i : idx) in >> i;
     for (int k = 1; k + 1 < n; ++k) {
-      m.triangles.push_back({idx[0], idx[static_cast<std::size_t>(k)],
-                             idx[static_cast<std::size_t>(k + 1)]});
+      m.triangles.push_back(
+          {idx[0], idx[static_cast<std::size_t>(k)], idx[static_cast<std::size_t>(k + 1)]});
     }
   }
   double volume = 0;
@@ -89,9 +89,12 @@ TEST(DiffcsgOpenscad, TheExamplesMatchOpenscadsOwnMeshes) {
         const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
         const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
         const Vec3& d = m.vertices[static_cast<std::size_t>(t[2])];
-        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-        const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-        const double out = n[0] * (a[0] - centre[0]) + n[1] * (a[1] - centre[1]) + n[2] * (a[2] - centre[2]);
+        const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+            w{d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+        const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                     u[0] * w[1] - u[1] * w[0]};
+        const double out =
+            n[0] * (a[0] - centre[0]) + n[1] * (a[1] - centre[1]) + n[2] * (a[2] - centre[2]);
         inward += out < 0;
       }
       EXPECT_EQ(inward, 0);

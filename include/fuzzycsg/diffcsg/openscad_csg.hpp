@@ -5,11 +5,12 @@
 // Nodes: cube(size, center), sphere(r | d), cylinder(h, r | r1, r2 | d | d1, d2, center),
 // multmatrix(m), union(), difference() (the first child less all the others), intersection(),
 // group() (a union), and the pass-through color() and render(). Several top-level statements
-// are a union. The modifiers # and ! keep their node, % and * remove it. Spheres and cylinders are tessellated as OpenSCAD 2021.01 does: $fn, $fa and $fs
-// give the number of fragments (get_fragments_from_r), a sphere is (fragments + 1) / 2 rings of
-// latitude with capping polygons, a cylinder two circles of that many points (a cone's apex is
-// one point). Any other node (linear_extrude, polyhedron, import, ...) is refused with one line
-// naming the file, the line and the node.
+// are a union. The modifiers # and ! keep their node, % and * remove it. Spheres and cylinders are
+// tessellated as OpenSCAD 2021.01 does: $fn, $fa and $fs give the number of fragments
+// (get_fragments_from_r), a sphere is (fragments + 1) / 2 rings of latitude with capping polygons,
+// a cylinder two circles of that many points (a cone's apex is one point). Any other node
+// (linear_extrude, polyhedron, import, ...) is refused with one line naming the file, the line and
+// the node.
 
 #include <filesystem>
 #include <string>
