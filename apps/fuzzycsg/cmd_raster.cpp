@@ -113,6 +113,9 @@ int run_raster(const RasterArgs& a) {
     o[3] = 255;
   }
   io::write_text_file_atomic(a.out, encode_png(w, h, 4, rgba));
+  if (f.visible_pixels() == 0) {
+    fmt::print(stderr, "raster: warning: {}: the camera sees nothing of the model\n", a.out);
+  }
   if (!a.quiet) {
     fmt::print("raster: {} primitives, {} triangles, {}x{} pixels ({} covered) in {:.3f} s to {}\n",
                scene.primitives.size(), scene.triangle_count(), w, h, f.visible_pixels(), seconds,

@@ -7,12 +7,6 @@ namespace fuzzycsg::diffcsg {
 
 namespace {
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
 // Where segment (e0, e1) crosses triangle (a, b, c), if it does: the point on the segment in
 // the triangle's plane, kept when it lies inside the triangle (edges included).
 bool edge_crosses(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b, const Vec3& c,

@@ -393,13 +393,7 @@ class Builder {
             m[r * 4] * q[0] + m[r * 4 + 1] * q[1] + m[r * 4 + 2] * q[2] + m[r * 4 + 3];
       }
     }
-    for (const auto& tri : mesh.triangles) {
-      const Vec3& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
-      const Vec3& bb = mesh.vertices[static_cast<std::size_t>(tri[1])];
-      const Vec3& c = mesh.vertices[static_cast<std::size_t>(tri[2])];
-      volume += a[0] * (bb[1] * c[2] - bb[2] * c[1]) + a[1] * (bb[2] * c[0] - bb[0] * c[2]) +
-                a[2] * (bb[0] * c[1] - bb[1] * c[0]);
-    }
+    volume = signed_volume6(mesh);
     if (!(std::abs(volume) > 0)) fail("the primitive has no volume");
     if (volume < 0) {
       for (auto& tri : mesh.triangles) std::swap(tri[1], tri[2]);

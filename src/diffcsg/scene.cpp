@@ -13,6 +13,17 @@
 
 namespace fuzzycsg::diffcsg {
 
+double signed_volume6(const TriMesh& m) {
+  double v = 0;
+  for (const auto& t : m.triangles) {
+    const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
+    const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
+    const Vec3& c = m.vertices[static_cast<std::size_t>(t[2])];
+    v += dot(a, cross(b, c));
+  }
+  return v;
+}
+
 TriMesh unit_box() {
   TriMesh m;
   for (int k = 0; k < 8; ++k) {

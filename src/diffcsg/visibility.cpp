@@ -19,11 +19,6 @@ namespace fuzzycsg::diffcsg {
 
 namespace {
 
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec3 normalised(const Vec3& v) {
   const double n = std::sqrt(dot(v, v));
   return n > 0 ? Vec3{v[0] / n, v[1] / n, v[2] / n} : v;

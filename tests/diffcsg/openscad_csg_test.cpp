@@ -40,14 +40,7 @@ Scene read_off(const std::filesystem::path& path) {
           {idx[0], idx[static_cast<std::size_t>(k)], idx[static_cast<std::size_t>(k + 1)]});
     }
   }
-  double volume = 0;
-  for (const auto& t : m.triangles) {
-    const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
-    const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
-    const Vec3& c = m.vertices[static_cast<std::size_t>(t[2])];
-    volume += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
+  const double volume = signed_volume6(m);
   if (volume < 0) {
     for (auto& t : m.triangles) std::swap(t[1], t[2]);
   }

@@ -25,10 +25,19 @@ namespace fuzzycsg::diffcsg {
 
 using Vec3 = std::array<double, 3>;
 
+inline Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
 struct TriMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
 };
+
+// Six times the signed volume enclosed (positive for outward normals).
+double signed_volume6(const TriMesh& m);
 
 TriMesh unit_box();
 TriMesh unit_sphere(int subdivisions);
