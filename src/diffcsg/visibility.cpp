@@ -76,12 +76,17 @@ Camera Camera::orbit(const Vec3& target, double azimuth, double elevation, doubl
   return c;
 }
 
-Vec3 Camera::ray(int i, int j) const {
-  const Vec3 forward = normalised(sub(target, eye));
-  Vec3 right = cross(forward, up);
+void Camera::axes(Vec3& forward, Vec3& right, Vec3& true_up) const {
+  forward = normalised(sub(target, eye));
+  right = cross(forward, up);
   if (dot(right, right) < 1e-24) right = cross(forward, Vec3{1, 0, 0});  // looking along up
   right = normalised(right);
-  const Vec3 true_up = cross(right, forward);
+  true_up = cross(right, forward);
+}
+
+Vec3 Camera::ray(int i, int j) const {
+  Vec3 forward, right, true_up;
+  axes(forward, right, true_up);
   const double half = std::tan(fov_deg * std::numbers::pi / 360);
   const double aspect = static_cast<double>(width) / height;
   const double x = (2 * (i + 0.5) / width - 1) * half * aspect;

@@ -31,6 +31,8 @@ struct Camera {
                       int width, int height, double fov_deg = 30);
   // The unit direction of the ray through the centre of pixel (i, j).
   Vec3 ray(int i, int j) const;
+  // The camera's unit axes: forward (to the target), right and up (the image's).
+  void axes(Vec3& forward, Vec3& right, Vec3& true_up) const;
 };
 
 // Per pixel (index j * width + i); primitive -1 where no surface is visible.
