@@ -82,7 +82,17 @@ double cross2(double ax, double ay, double bx, double by) { return ax * by - ay 
 Projection project(const Camera& camera, const Vec3& p) { return project(camera_frame(camera), p); }
 
 Image antialias(const Scene& scene, const Topology& topology, const Camera& camera,
-                const Frame& frame, const Image& colour, std::vector<AaPair>* pairs) {
+                const Frame& frame, const Image& colour, std::vector<AaPair>* pairs,
+                const std::vector<IntersectionEdge>* edges) {
+  // Intersection edges by the pair of triangles they join.
+  std::map<std::array<int, 4>, std::vector<int>> by_triangles;
+  if (edges) {
+    for (std::size_t e = 0; e < edges->size(); ++e) {
+      const IntersectionEdge& x = (*edges)[e];
+      by_triangles[{x.primitive_a, x.triangle_a, x.primitive_b, x.triangle_b}].push_back(
+          static_cast<int>(e));
+    }
+  }
   if (colour.width != frame.width || colour.height != frame.height) {
     throw Error("antialias: the colour image's size differs from the frame's");
   }
@@ -128,25 +138,53 @@ Image antialias(const Scene& scene, const Topology& topology, const Camera& came
             best = k;
           }
         }
-        if (best < 0) continue;
-        // Silhouette: the neighbour across the edge faces the other way on screen.
-        double qx[3] = {vx[0], vx[1], vx[2]}, qy[3] = {vy[0], vy[1], vy[2]};
-        local(topology[static_cast<std::size_t>(prim)][static_cast<std::size_t>(tri)]
-                      [static_cast<std::size_t>(best)],
-              qx[best], qy[best]);
-        const double ak = cross2(qx[1] - qx[0], qy[1] - qy[0], qx[2] - qx[0], qy[2] - qy[0]);
-        if (std::signbit(ak) != std::signbit(bb)) continue;
-        const int a = (best + 1) % 3, b = (best + 2) % 3;
-        if (std::abs(vy[b] - vy[a]) < std::abs(vx[b] - vx[a])) continue;
-        if (!(best_t > -1.0 / 16 && best_t < 17.0 / 16)) continue;
-        const double th = std::clamp(best_t, 0.0, 1.0);
-        const double alpha = s * (0.5 - th);
-        const std::size_t target = alpha > 0 ? p0 : p1;
-        for (int c = 0; c < ch; ++c) {
-          out.at(target)[c] += static_cast<float>(alpha * (colour.at(p1)[c] - colour.at(p0)[c]));
+        const auto blend = [&](double t_cross, int edge, int intersection) {
+          const double th = std::clamp(t_cross, 0.0, 1.0);
+          const double alpha = s * (0.5 - th);
+          const std::size_t target = alpha > 0 ? p0 : p1;
+          for (int c = 0; c < ch; ++c) {
+            out.at(target)[c] += static_cast<float>(alpha * (colour.at(p1)[c] - colour.at(p0)[c]));
+          }
+          if (pairs) {
+            pairs->push_back({p0, p1, target, prim, tri, edge, s, dir == 1, alpha, intersection});
+          }
+        };
+        bool done = false;
+        if (best >= 0) {
+          // Silhouette: the neighbour across the edge faces the other way on screen.
+          double qx[3] = {vx[0], vx[1], vx[2]}, qy[3] = {vy[0], vy[1], vy[2]};
+          local(topology[static_cast<std::size_t>(prim)][static_cast<std::size_t>(tri)]
+                        [static_cast<std::size_t>(best)],
+                qx[best], qy[best]);
+          const double ak = cross2(qx[1] - qx[0], qy[1] - qy[0], qx[2] - qx[0], qy[2] - qy[0]);
+          const int a = (best + 1) % 3, b = (best + 2) % 3;
+          if (std::signbit(ak) == std::signbit(bb) &&
+              std::abs(vy[b] - vy[a]) >= std::abs(vx[b] - vx[a]) && best_t > -1.0 / 16 &&
+              best_t < 17.0 / 16) {
+            blend(best_t, best, -1);
+            done = true;
+          }
         }
-        if (pairs) {
-          pairs->push_back({p0, p1, target, prim, tri, best, s, dir == 1, alpha});
+        if (done || !edges || pr0 < 0 || pr1 < 0 || pr0 == pr1) continue;
+        // The intersection edge of the two triangles shown, if it passes between the pixels.
+        const int t0 = frame.triangle[p0], t1 = frame.triangle[p1];
+        const auto found = by_triangles.find(pr0 < pr1 ? std::array<int, 4>{pr0, t0, pr1, t1}
+                                                       : std::array<int, 4>{pr1, t1, pr0, t0});
+        if (found == by_triangles.end()) continue;
+        for (const int e : found->second) {
+          const IntersectionEdge& x = (*edges)[static_cast<std::size_t>(e)];
+          const Projection pp = project(cf, x.p), pq = project(cf, x.q);
+          double ax = pp.sx - ox, ay = pp.sy - oy, bx = pq.sx - ox, by = pq.sy - oy;
+          if (dir == 1) {
+            std::swap(ax, ay);
+            std::swap(bx, by);
+          }
+          if ((ay < 0) == (by < 0)) continue;
+          if (std::abs(by - ay) < std::abs(bx - ax)) continue;
+          const double tc = s * (ax * by - bx * ay) / (by - ay);
+          if (!(tc > -1.0 / 16 && tc < 17.0 / 16)) continue;
+          blend(tc, -1, e);
+          break;
         }
       }
     }
@@ -156,7 +194,8 @@ Image antialias(const Scene& scene, const Topology& topology, const Camera& came
 
 void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
                         const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
-                        std::vector<std::vector<Vec3>>& grad_vertices) {
+                        std::vector<std::vector<Vec3>>& grad_vertices,
+                        const std::vector<IntersectionEdge>* edges) {
   const CameraFrame cf = camera_frame(camera);
   const int ch = colour.channels;
   if (grad_colour.data.size() != colour.data.size()) {
@@ -183,10 +222,14 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
     const std::size_t src = pr.s > 0 ? pr.p0 : pr.p1;
     const double ox = (src % static_cast<std::size_t>(w)) + 0.5;
     const double oy = static_cast<double>(src / static_cast<std::size_t>(w)) + 0.5;
-    const int i1 = t[static_cast<std::size_t>((pr.edge + 1) % 3)];
-    const int i2 = t[static_cast<std::size_t>((pr.edge + 2) % 3)];
-    const Projection a = project(cf, m.vertices[static_cast<std::size_t>(i1)]);
-    const Projection b = project(cf, m.vertices[static_cast<std::size_t>(i2)]);
+    const IntersectionEdge* x = pr.intersection >= 0 && edges
+                                    ? &(*edges)[static_cast<std::size_t>(pr.intersection)]
+                                    : nullptr;
+    if (pr.intersection >= 0 && !x) continue;
+    const int i1 = x ? -1 : t[static_cast<std::size_t>((pr.edge + 1) % 3)];
+    const int i2 = x ? -1 : t[static_cast<std::size_t>((pr.edge + 2) % 3)];
+    const Projection a = project(cf, x ? x->p : m.vertices[static_cast<std::size_t>(i1)]);
+    const Projection b = project(cf, x ? x->q : m.vertices[static_cast<std::size_t>(i2)]);
     double x1 = a.sx - ox, y1 = a.sy - oy, x2 = b.sx - ox, y2 = b.sy - oy;
     if (pr.vertical) {
       std::swap(x1, y1);
@@ -210,8 +253,50 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
                      gy * pj.jacobian[3 + static_cast<std::size_t>(k)]);
       }
     };
-    add(i1, a, da_dx1, da_dy1);
-    add(i2, b, da_dx2, da_dy2);
+    if (!x) {
+      add(i1, a, da_dx1, da_dy1);
+      add(i2, b, da_dx2, da_dy2);
+      continue;
+    }
+    // An intersection edge: dL/d of its endpoints, then through the edge-plane crossings to the
+    // vertices of its two triangles.
+    const auto endpoint = [&](const Projection& pj, double gx, double gy,
+                              const EndpointSource& source) {
+      Vec3 gp{};
+      for (int k = 0; k < 3; ++k) {
+        gp[static_cast<std::size_t>(k)] =
+            delta * (gx * pj.jacobian[static_cast<std::size_t>(k)] +
+                     gy * pj.jacobian[3 + static_cast<std::size_t>(k)]);
+      }
+      const int pe = source.of_b ? x->primitive_b : x->primitive_a;  // the crossing edge's
+      const int te = source.of_b ? x->triangle_b : x->triangle_a;
+      const int pt = source.of_b ? x->primitive_a : x->primitive_b;  // the crossed triangle's
+      const int tt = source.of_b ? x->triangle_a : x->triangle_b;
+      const TriMesh& me = scene.primitives[static_cast<std::size_t>(pe)];
+      const TriMesh& mt = scene.primitives[static_cast<std::size_t>(pt)];
+      const auto& tri_e = me.triangles[static_cast<std::size_t>(te)];
+      const auto& tri_t = mt.triangles[static_cast<std::size_t>(tt)];
+      const int v0 = tri_e[static_cast<std::size_t>(source.edge)];
+      const int v1 = tri_e[static_cast<std::size_t>((source.edge + 1) % 3)];
+      Vec3 g0{}, g1{}, ga{}, gb{}, gc{};
+      edge_plane_point_vjp(me.vertices[static_cast<std::size_t>(v0)],
+                           me.vertices[static_cast<std::size_t>(v1)],
+                           mt.vertices[static_cast<std::size_t>(tri_t[0])],
+                           mt.vertices[static_cast<std::size_t>(tri_t[1])],
+                           mt.vertices[static_cast<std::size_t>(tri_t[2])], gp, g0, g1, ga, gb, gc);
+      auto& ge = grad_vertices[static_cast<std::size_t>(pe)];
+      auto& gt = grad_vertices[static_cast<std::size_t>(pt)];
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t kk = static_cast<std::size_t>(k);
+        ge[static_cast<std::size_t>(v0)][kk] += g0[kk];
+        ge[static_cast<std::size_t>(v1)][kk] += g1[kk];
+        gt[static_cast<std::size_t>(tri_t[0])][kk] += ga[kk];
+        gt[static_cast<std::size_t>(tri_t[1])][kk] += gb[kk];
+        gt[static_cast<std::size_t>(tri_t[2])][kk] += gc[kk];
+      }
+    };
+    endpoint(a, da_dx1, da_dy1, x->p_source);
+    endpoint(b, da_dx2, da_dy2, x->q_source);
   }
 }
 

@@ -33,16 +33,65 @@ bool edge_crosses(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b, 
 
 }  // namespace
 
+Vec3 edge_plane_point(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = cross(sub(b, a), sub(c, a));
+  const double d0 = dot(n, sub(e0, a)), d1 = dot(n, sub(e1, a));
+  const double beta = d0 / (d0 - d1);
+  return {e0[0] + beta * (e1[0] - e0[0]), e0[1] + beta * (e1[1] - e0[1]),
+          e0[2] + beta * (e1[2] - e0[2])};
+}
+
+void edge_plane_point_vjp(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b,
+                          const Vec3& c, const Vec3& g, Vec3& ge0, Vec3& ge1, Vec3& ga, Vec3& gb,
+                          Vec3& gc) {
+  // p = e0 + beta (e1 - e0), beta = d0 / (d0 - d1), d_k = n . (e_k - a), n = (b - a) x (c - a).
+  const Vec3 ba = sub(b, a), ca = sub(c, a);
+  const Vec3 n = cross(ba, ca);
+  const Vec3 r0 = sub(e0, a), r1 = sub(e1, a);
+  const double d0 = dot(n, r0), d1 = dot(n, r1);
+  const double den = d0 - d1;
+  const double beta = d0 / den;
+  const double gamma = dot(g, sub(e1, e0));
+  // dbeta = (-d1 dd0 + d0 dd1) / den^2.
+  const double c0 = -d1 * gamma / (den * den), c1 = d0 * gamma / (den * den);
+  // dd_k = dn . r_k + n . (de_k - da).
+  Vec3 m{};
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t kk = static_cast<std::size_t>(k);
+    ge0[kk] += (1 - beta) * g[kk] + c0 * n[kk];
+    ge1[kk] += beta * g[kk] + c1 * n[kk];
+    ga[kk] -= (c0 + c1) * n[kk];
+    m[kk] = c0 * r0[kk] + c1 * r1[kk];
+  }
+  // m . dn, dn = (db - da) x ca + ba x (dc - da).
+  const Vec3 tb = cross(ca, m);  // m . (X x ca) = X . (ca x m)
+  const Vec3 tc = cross(m, ba);  // m . (ba x Y) = Y . (m x ba)
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t kk = static_cast<std::size_t>(k);
+    gb[kk] += tb[kk];
+    gc[kk] += tc[kk];
+    ga[kk] -= tb[kk] + tc[kk];
+  }
+}
+
 bool triangle_intersection(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0,
-                           const Vec3& b1, const Vec3& b2, Vec3& p, Vec3& q) {
+                           const Vec3& b1, const Vec3& b2, Vec3& p, Vec3& q,
+                           EndpointSource* p_source, EndpointSource* q_source) {
   Vec3 points[6];
+  EndpointSource sources[6];
   int n = 0;
   const Vec3* ta[3] = {&a0, &a1, &a2};
   const Vec3* tb[3] = {&b0, &b1, &b2};
   for (int k = 0; k < 3; ++k) {
     Vec3 x;
-    if (edge_crosses(*ta[k], *ta[(k + 1) % 3], b0, b1, b2, x)) points[n++] = x;
-    if (edge_crosses(*tb[k], *tb[(k + 1) % 3], a0, a1, a2, x)) points[n++] = x;
+    if (edge_crosses(*ta[k], *ta[(k + 1) % 3], b0, b1, b2, x)) {
+      sources[n] = {false, k};
+      points[n++] = x;
+    }
+    if (edge_crosses(*tb[k], *tb[(k + 1) % 3], a0, a1, a2, x)) {
+      sources[n] = {true, k};
+      points[n++] = x;
+    }
   }
   // Distinct points (an edge through a vertex of the other triangle is met twice).
   double scale = 0;
@@ -57,11 +106,16 @@ bool triangle_intersection(const Vec3& a0, const Vec3& a1, const Vec3& a2, const
       const Vec3 d = sub(points[k], points[j]);
       seen = dot(d, d) <= eps2;
     }
-    if (!seen) points[m++] = points[k];
+    if (!seen) {
+      sources[m] = sources[k];
+      points[m++] = points[k];
+    }
   }
   if (m != 2) return false;
   p = points[0];
   q = points[1];
+  if (p_source) *p_source = sources[0];
+  if (q_source) *q_source = sources[1];
   return true;
 }
 
@@ -113,7 +167,8 @@ std::vector<IntersectionEdge> intersection_edges(const Scene& scene) {
                                 mx.vertices[static_cast<std::size_t>(tx[2])],
                                 my.vertices[static_cast<std::size_t>(ty[0])],
                                 my.vertices[static_cast<std::size_t>(ty[1])],
-                                my.vertices[static_cast<std::size_t>(ty[2])], e.p, e.q)) {
+                                my.vertices[static_cast<std::size_t>(ty[2])], e.p, e.q, &e.p_source,
+                                &e.q_source)) {
         e.primitive_a = x.primitive;
         e.triangle_a = x.triangle;
         e.primitive_b = y.primitive;

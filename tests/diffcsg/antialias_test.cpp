@@ -131,3 +131,142 @@ TEST(DiffcsgAntialias, VertexGradientsMatchCentralDifferences) {
 
 }  // namespace
 }  // namespace fuzzycsg::diffcsg
+
+namespace fuzzycsg::diffcsg {
+namespace {
+
+TEST(DiffcsgIntersectionAa, EdgePlanePointVjpMatchesDifferences) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    Vec3 pts[5];
+    for (Vec3& p : pts) p = {u(rng), u(rng), u(rng)};
+    pts[0][2] = 1 + std::abs(pts[0][2]);  // the edge crosses the plane z ~ 0 of the triangle
+    pts[1][2] = -1 - std::abs(pts[1][2]);
+    for (int k = 2; k < 5; ++k) pts[k][2] *= 0.1;
+    const Vec3 g{u(rng), u(rng), u(rng)};
+    Vec3 grads[5] = {};
+    edge_plane_point_vjp(pts[0], pts[1], pts[2], pts[3], pts[4], g, grads[0], grads[1], grads[2],
+                         grads[3], grads[4]);
+    for (int which = 0; which < 5; ++which) {
+      for (int k = 0; k < 3; ++k) {
+        Vec3 a[5], b[5];
+        for (int j = 0; j < 5; ++j) a[j] = b[j] = pts[j];
+        a[which][static_cast<std::size_t>(k)] += 1e-6;
+        b[which][static_cast<std::size_t>(k)] -= 1e-6;
+        const Vec3 pa = edge_plane_point(a[0], a[1], a[2], a[3], a[4]);
+        const Vec3 pb = edge_plane_point(b[0], b[1], b[2], b[3], b[4]);
+        const double fd = (dot(g, pa) - dot(g, pb)) / 2e-6;
+        EXPECT_NEAR(grads[which][static_cast<std::size_t>(k)], fd, 1e-5 * (1 + std::abs(fd)));
+      }
+    }
+  }
+}
+
+Scene model(const std::string& root) {
+  return scene_from_tree(
+      io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": )" +
+                           root + "}"),
+      "model");
+}
+
+// A block with a notch cut by a second box: every image edge of the notch is an intersection
+// edge (the cutting box is only seen as the notch's walls), as in DiffCSG's Fig. 10.
+std::string notch(double dx) {
+  return R"({"op": "difference", "children": [{"type": "box", "size": [1.2, 1, 0.8], "rotate": [0, 0, 10]},
+      {"type": "box", "size": [0.6, 0.6, 0.6], "translate": [)" +
+         std::to_string(0.5 + dx) + R"(, 0.45, 0.35], "rotate": [8, 5, 20]}]})";
+}
+
+struct Rendered {
+  Frame frame;
+  Image colour, out;
+  std::vector<AaPair> pairs;
+  std::vector<IntersectionEdge> edges;
+};
+
+Rendered render(const Scene& scene, const Camera& cam, bool intersection) {
+  Rendered r;
+  r.frame = render_visibility(scene, cam, 1);
+  r.colour = shade(r.frame);
+  r.edges = intersection_edges(scene);
+  r.out = antialias(scene, opposite_vertices(scene), cam, r.frame, r.colour, &r.pairs,
+                    intersection ? &r.edges : nullptr);
+  return r;
+}
+
+TEST(DiffcsgIntersectionAa, VertexGradientsMatchCentralDifferences) {
+  const Camera cam = Camera::orbit({0, 0, 0}, 35, 30, 4, 48, 48, 35);
+  for (
+      const std::string& root :
+      {notch(0),
+       std::string(
+           R"({"op": "union", "children": [{"type": "box", "size": [1, 0.8, 0.6], "rotate": [20, 35, 10]},
+          {"type": "box", "size": [0.5, 0.5, 1.4], "translate": [0.3, 0.1, 0.2], "rotate": [5, 10, 30]}]})")}) {
+    const Scene scene = model(root);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::vector<float> w(48 * 48 * 3);
+    for (float& x : w) x = u(rng);
+    const Rendered r = render(scene, cam, true);
+    int crossings = 0;
+    for (const AaPair& p : r.pairs) crossings += p.intersection >= 0;
+    EXPECT_GT(crossings, 10);
+    Image g_out{48, 48, 3, w}, g_colour;
+    std::vector<std::vector<Vec3>> grad;
+    antialias_backward(scene, cam, r.colour, r.pairs, g_out, g_colour, grad, &r.edges);
+    const auto loss_of = [&](const Scene& s) {
+      const Rendered x = render(s, cam, true);
+      double l = 0;
+      for (std::size_t k = 0; k < x.out.data.size(); ++k) l += w[k] * x.out.data[k];
+      return l;
+    };
+    int compared = 0, agreed = 0;
+    for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+      for (std::size_t v = 0; v < scene.primitives[p].vertices.size(); ++v) {
+        for (int k = 0; k < 3; ++k) {
+          Scene a = scene, b = scene;
+          a.primitives[p].vertices[v][static_cast<std::size_t>(k)] += 1e-5;
+          b.primitives[p].vertices[v][static_cast<std::size_t>(k)] -= 1e-5;
+          const double fd = (loss_of(a) - loss_of(b)) / 2e-5;
+          const double an = grad[p][v][static_cast<std::size_t>(k)];
+          if (std::abs(fd) < 1e-9 && std::abs(an) < 1e-9) continue;
+          ++compared;
+          agreed += std::abs(fd - an) <= 0.03 * std::max(std::abs(fd), std::abs(an)) + 1e-3;
+        }
+      }
+    }
+    std::printf("%d of %d gradient components agree\n", agreed, compared);
+    EXPECT_GE(compared, 20);
+    EXPECT_GE(agreed, compared - 1) << agreed << " of " << compared;
+  }
+}
+
+// Fig. 10: the cutting box must move; only the intersection edges say so.
+TEST(DiffcsgIntersectionAa, OnlyIntersectionEdgesCarryTheSignalOfANotch) {
+  const Camera cam = Camera::orbit({0, 0, 0}, 35, 30, 4, 64, 64, 35);
+  const Scene scene = model(notch(0)), target_scene = model(notch(0.04));
+  const Rendered target = render(target_scene, cam, true);
+  for (const bool intersection : {true, false}) {
+    SCOPED_TRACE(intersection ? "with intersection edges" : "without");
+    const Rendered r = render(scene, cam, intersection);
+    // L = sum (out - target)^2.
+    Image g_out = r.out;
+    for (std::size_t k = 0; k < g_out.data.size(); ++k) {
+      g_out.data[k] = 2 * (r.out.data[k] - target.out.data[k]);
+    }
+    Image g_colour;
+    std::vector<std::vector<Vec3>> grad;
+    antialias_backward(scene, cam, r.colour, r.pairs, g_out, g_colour, grad, &r.edges);
+    double dx = 0;  // dL / d(the cutting box's x translation)
+    for (const Vec3& g : grad[1]) dx += g[0];
+    if (intersection) {
+      EXPECT_LT(dx, -1e-2) << "moving the box towards the target lowers the loss";
+    } else {
+      EXPECT_EQ(dx, 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fuzzycsg::diffcsg

@@ -16,6 +16,7 @@
 #include <array>
 #include <vector>
 
+#include "fuzzycsg/diffcsg/edges.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 
 namespace fuzzycsg::diffcsg {
@@ -50,16 +51,26 @@ struct AaPair {
   int s = 1;
   bool vertical = false;
   double alpha = 0;
+  int intersection = -1;  // blended across this intersection edge (index), not a silhouette
 };
 
-// The antialiased image of `colour` (the shaded visible surface, `frame`'s size).
+// The antialiased image of `colour` (the shaded visible surface, `frame`'s size). With
+// `edges` (intersection_edges() of the scene), a pair of pixels showing triangles of two
+// primitives that no silhouette separates is also blended across the intersection edge of
+// exactly those two triangles, if it crosses the segment between their centres: DiffCSG's
+// intersection-edge antialiasing (only visible edges count: the two triangles are the ones the
+// pixels show).
 Image antialias(const Scene& scene, const Topology& topology, const Camera& camera,
-                const Frame& frame, const Image& colour, std::vector<AaPair>* pairs = nullptr);
+                const Frame& frame, const Image& colour, std::vector<AaPair>* pairs = nullptr,
+                const std::vector<IntersectionEdge>* edges = nullptr);
 
 // Given dL/d(antialiased image), adds dL/dcolour (sized like colour) and dL/dvertex (world
-// coordinates, [primitive][vertex]) through α's dependence on the edges' endpoints.
+// coordinates, [primitive][vertex]) through α's dependence on the edges' endpoints; for an
+// intersection edge, through its endpoints' dependence on the six vertices of its two
+// triangles. `edges` as given to antialias().
 void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
                         const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
-                        std::vector<std::vector<Vec3>>& grad_vertices);
+                        std::vector<std::vector<Vec3>>& grad_vertices,
+                        const std::vector<IntersectionEdge>* edges = nullptr);
 
 }  // namespace fuzzycsg::diffcsg

@@ -18,16 +18,32 @@
 
 namespace fuzzycsg::diffcsg {
 
+// Where an endpoint comes from: edge `edge` (from vertex edge to vertex edge + 1, mod 3) of
+// triangle a crossing triangle b (`of_b` false), or the other way round.
+struct EndpointSource {
+  bool of_b = false;
+  int edge = 0;
+};
+
 struct IntersectionEdge {
   Vec3 p, q;
   int primitive_a = -1, triangle_a = -1, primitive_b = -1, triangle_b = -1;  // a < b
+  EndpointSource p_source, q_source;
 };
+
+// The point where edge (e0, e1) crosses the plane of triangle (a, b, c), and the
+// vector-Jacobian product: given g = dL/dpoint, adds dL/d of e0, e1, a, b, c.
+Vec3 edge_plane_point(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b, const Vec3& c);
+void edge_plane_point_vjp(const Vec3& e0, const Vec3& e1, const Vec3& a, const Vec3& b,
+                          const Vec3& c, const Vec3& g, Vec3& ge0, Vec3& ge1, Vec3& ga, Vec3& gb,
+                          Vec3& gc);
 
 std::vector<IntersectionEdge> intersection_edges(const Scene& scene);
 
 // The segment where triangles (a0, a1, a2) and (b0, b1, b2) cross; false if they do not (or
 // touch in a point, or are coplanar).
 bool triangle_intersection(const Vec3& a0, const Vec3& a1, const Vec3& a2, const Vec3& b0,
-                           const Vec3& b1, const Vec3& b2, Vec3& p, Vec3& q);
+                           const Vec3& b1, const Vec3& b2, Vec3& p, Vec3& q,
+                           EndpointSource* p_source = nullptr, EndpointSource* q_source = nullptr);
 
 }  // namespace fuzzycsg::diffcsg
