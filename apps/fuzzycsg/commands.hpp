@@ -27,6 +27,7 @@ Verb register_render(CLI::App& app);
 Verb register_diagram(CLI::App& app);
 Verb register_export(CLI::App& app);
 Verb register_raster(CLI::App& app);
+Verb register_refine(CLI::App& app);
 Verb register_trace(CLI::App& app);
 Verb register_morph(CLI::App& app);
 

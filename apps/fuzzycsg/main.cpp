@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   verbs.push_back(fuzzycsg::app::register_diagram(app));
   verbs.push_back(fuzzycsg::app::register_export(app));
   verbs.push_back(fuzzycsg::app::register_raster(app));
+  verbs.push_back(fuzzycsg::app::register_refine(app));
   verbs.push_back(fuzzycsg::app::register_trace(app));
   verbs.push_back(fuzzycsg::app::register_morph(app));
 

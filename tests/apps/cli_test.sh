@@ -407,5 +407,34 @@ expect_error "3D" "$bin" raster "$src/examples/cart_2d.json" -o "$tmp/r3.png"
 expect_error "--size" "$bin" raster "$src/examples/box_with_hole.json" -o "$tmp/r4.png" --size 0
 if [[ ! -e "$tmp/r2.png" && ! -e "$tmp/r3.png" && ! -e "$tmp/r4.png" && ! -e "$tmp/r5.png" ]]; then ok; else bad "raster error left a file"; fi
 
+# refine: a program's parameters fitted to another's renderings.
+cat >"$tmp/prog.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op": "difference", "children": [
+  {"type": "box", "size": [1.2, 1, 0.8], "rotate": [0, 0, 10]},
+  {"type": "cylinder", "radius": 0.25, "height": 1.2, "translate": [0.1, 0.05, 0], "rotate": [20, 0, 0]}]}}
+JSON
+sed 's/"radius": 0.25/"radius": 0.3/; s/\[0.1, 0.05, 0\]/[0.18, -0.02, 0]/' "$tmp/prog.json" >"$tmp/goal.json"
+if "$bin" refine "$tmp/prog.json" --target "$tmp/goal.json" -o "$tmp/ref" --views 2 --size 48 \
+  --iters 40 --lr 0.005 -q &&
+  python3 - "$tmp/ref" <<'PY'
+import json, os, sys
+d = sys.argv[1]
+for f in ["tree.json", "model.scad", "report.json", "before.png", "after.png", "target.png"]:
+    assert os.path.getsize(os.path.join(d, f)) > 0, f
+r = json.load(open(os.path.join(d, "report.json")))
+assert r["loss"][-1] < r["loss"][0], r["loss"][:3]
+assert set(r["seconds_per_step"]) == {"visibility", "edges", "antialias", "backward"}
+radius = json.load(open(os.path.join(d, "tree.json")))["root"]["children"][1]["radius"]
+assert radius > 0.25, radius  # moved towards the goal's 0.3
+PY
+then ok; else bad "refine outputs"; fi
+cat >"$tmp/goal3.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "box", "size": [1, 1, 1]}}
+JSON
+expect_error "goal3.json: 1 primitives, the model 2" "$bin" refine "$tmp/prog.json" \
+  --target "$tmp/goal3.json" -o "$tmp/ref4"
+expect_error "--views" "$bin" refine "$tmp/prog.json" --target "$tmp/goal.json" -o "$tmp/ref5" --views 0
+if [[ ! -e "$tmp/ref4" && ! -e "$tmp/ref5" ]]; then ok; else bad "refine error left a directory"; fi
+
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]
