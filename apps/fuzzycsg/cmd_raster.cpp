@@ -21,6 +21,7 @@
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
+#include "fuzzycsg/diffcsg/refine.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 #include "fuzzycsg/io/png.hpp"
 #include "fuzzycsg/io/points.hpp"
@@ -38,18 +39,6 @@ struct RasterArgs {
   bool colors = false, normals = false, quiet = false;
   int sphere_subdivisions = 2, cylinder_segments = 16, threads = 0;
 };
-
-// Tableau's ten colours.
-constexpr std::array<std::array<unsigned char, 3>, 10> kPalette{{{31, 119, 180},
-                                                                 {255, 127, 14},
-                                                                 {44, 160, 44},
-                                                                 {214, 39, 40},
-                                                                 {148, 103, 189},
-                                                                 {140, 86, 75},
-                                                                 {227, 119, 194},
-                                                                 {127, 127, 127},
-                                                                 {188, 189, 34},
-                                                                 {23, 190, 207}}};
 
 int run_raster(const RasterArgs& a) {
   if (a.camera.size() != 3) throw InputError("--camera: three numbers AZ,EL,DIST expected");
@@ -95,7 +84,7 @@ int run_raster(const RasterArgs& a) {
     if (f.primitive[p] < 0) continue;
     unsigned char* o = &rgba[p * 4];
     if (a.colors) {
-      const auto& c = kPalette[static_cast<std::size_t>(f.primitive[p]) % kPalette.size()];
+      const std::array<float, 3> c = diffcsg::primitive_colour(f.primitive[p]);
       // Shaded by the normal's facing, so that faces of one primitive stay apart.
       const diffcsg::Vec3 d = cam.ray(static_cast<int>(p % static_cast<std::size_t>(w)),
                                       static_cast<int>(p / static_cast<std::size_t>(w)));
@@ -103,7 +92,7 @@ int run_raster(const RasterArgs& a) {
           std::abs(d[0] * f.normal[p][0] + d[1] * f.normal[p][1] + d[2] * f.normal[p][2]);
       for (int k = 0; k < 3; ++k) {
         o[k] = static_cast<unsigned char>(
-            std::lround(c[static_cast<std::size_t>(k)] * (0.35 + 0.65 * facing)));
+            std::lround(255 * c[static_cast<std::size_t>(k)] * (0.35 + 0.65 * facing)));
       }
     } else {
       for (int k = 0; k < 3; ++k) {
