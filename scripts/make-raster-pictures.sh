@@ -12,12 +12,12 @@ out=docs/diffcsg
 mkdir -p "$out"
 for m in Basics/CSG Basics/logo Old/example001 Old/example003 Old/example004; do
   name=$(basename "$m")
-  "$fuzzycsg" raster "../shared/data/scad/$m.openscad.csg" -o "$out/$name.png" --colors \
+  "$fuzzycsg" raster "../shared/data/scad/$m.openscad.csg" -o "$out/$name.png" --shaded \
     --size 320 --camera 30,30,0
   "$fuzzycsg" raster "../shared/data/scad/$m.openscad.csg" -o "$out/${name}_normals.png" \
     --size 320 --camera 30,30,0
 done
-"$fuzzycsg" raster examples/box_with_hole.json -o "$out/box_with_hole.png" --colors \
+"$fuzzycsg" raster examples/box_with_hole.json -o "$out/box_with_hole.png" --shaded \
   --size 320 --camera 60,35,3.2
 "$fuzzycsg" raster examples/box_with_hole.json -o "$out/box_with_hole_normals.png" \
   --size 320 --camera 60,35,3.2

@@ -1,14 +1,18 @@
-// fuzzycsg refine MODEL --target MODEL -o OUTDIR [--views N] [--size N] [--iters N] [--lr F]
-//                 [--no-intersection-aa] [--stop F]
+// fuzzycsg refine MODEL --target (MODEL | MESH | VIEWS.json) -o OUTDIR [--shading normals|colours]
+//                 [--loss l1|l2|tanh] [--views N] [--size N] [--iters N] [--lr F] [--stop F]
+//                 [--random-views K] [--no-intersection-aa] ...
 //
 // DiffCSG's image-based refinement (fuzzycsg/diffcsg/refine.hpp): the continuous parameters of
-// MODEL (a 3D tree file of boxes, spheres and cylinders) are optimised so that its
-// per-primitive colour images from N views match those of the target model (a tree file of
-// the same program: primitive k of one is primitive k of the other), without any mesh boolean.
-// Writes tree.json and model.scad (refined), report.json (settings, loss curve, time split into
-// visibility, edges, antialiasing and backward) and before.png, after.png, target.png (view 0).
+// MODEL (a 3D tree file, or an OpenSCAD model in its flattened .csg form) are optimised so that
+// its renderings match the target's, without any mesh boolean. The target is another model
+// (tree file or .csg), a mesh (OBJ, STL, PLY, OFF), or a views file of images with their
+// cameras (diffcsg/targets.hpp). Writes tree.json and model.scad (refined), report.json
+// (settings, loss curve, the check view's error, time per step split into visibility, edges,
+// antialiasing and backward, every parameter before and after) and before.png, after.png,
+// target.png (the check view, view 0).
 
 #include <fmt/format.h>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -21,8 +25,9 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
-#include "fuzzycsg/io/png.hpp"
+#include "fuzzycsg/diffcsg/targets.hpp"
 #include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/scad/scad.hpp"
@@ -32,113 +37,211 @@ namespace fuzzycsg::app {
 namespace {
 
 struct RefineArgs {
-  std::string model, target, out;
-  int views = 4, size = 128, iters = 300, threads = 0;
-  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0;
-  bool no_intersection_aa = false, quiet = false;
+  std::string model, target, out, shading = "normals", loss = "l2";
+  int views = 4, size = 256, iters = 1000, threads = 0, random_views = 0;
+  int sphere_subdivisions = 2, cylinder_segments = 16;
+  long long seed = 1;
+  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30;
+  bool no_intersection_aa = false, quiet = false, size_given = false;
 };
 
-std::string png_of(const diffcsg::Image& img) {
-  std::vector<unsigned char> px(static_cast<std::size_t>(img.width) * img.height * 3);
-  for (std::size_t k = 0; k < px.size(); ++k) {
-    px[k] = static_cast<unsigned char>(std::lround(std::clamp(img.data[k], 0.0f, 1.0f) * 255));
-  }
-  return encode_png(img.width, img.height, 3, px);
+bool has_extension(const std::string& path, std::initializer_list<const char*> exts) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return std::any_of(exts.begin(), exts.end(), [&](const char* x) { return e == x; });
 }
 
-diffcsg::Image render(const diffcsg::Scene& scene, const diffcsg::Camera& cam, int threads) {
-  const diffcsg::Frame f = diffcsg::render_visibility(scene, cam, threads);
-  const std::vector<diffcsg::IntersectionEdge> edges = diffcsg::intersection_edges(scene);
-  return diffcsg::antialias(scene, diffcsg::opposite_vertices(scene), cam, f,
-                            diffcsg::colour_image(f), nullptr, &edges);
+// A model: a tree file, or an OpenSCAD .csg read as one (with OpenSCAD's tessellation).
+diffcsg::OpenscadModel read_model(const std::string& path, const diffcsg::TessellationOptions& t) {
+  if (has_extension(path, {".csg"})) return diffcsg::read_openscad_csg_tree(path);
+  return {io::read_tree_file(path), t};
 }
 
 int run_refine(const RefineArgs& a) {
   if (a.views < 1 || a.views > 64) throw InputError("--views: must be in [1, 64]");
-  if (a.size < 8 || a.size > 2048) throw InputError("--size: must be in [8, 2048]");
+  if (a.size < 8 || a.size > 4096) throw InputError("--size: must be in [8, 4096]");
   if (a.iters < 0) throw InputError("--iters: must not be negative");
   if (!(a.lr > 0)) throw InputError("--lr: must be > 0");
-  const Tree model = io::read_tree_file(a.model);
-  const Tree target = io::read_tree_file(a.target);
-  const diffcsg::Scene model_scene = diffcsg::scene_from_tree(model, a.model);
-  const diffcsg::Scene target_scene = diffcsg::scene_from_tree(target, a.target);
-  if (model_scene.primitives.size() != target_scene.primitives.size()) {
-    throw InputError(
-        fmt::format("{}: {} primitives, the model {}: the target must be the same "
-                    "program (primitive k for primitive k)",
-                    a.target, target_scene.primitives.size(), model_scene.primitives.size()));
-  }
-  prepare_output_dir(a.out);
-  // Cameras around the target's bounding box, evenly in azimuth.
-  diffcsg::Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const diffcsg::TriMesh& m : target_scene.primitives) {
-    for (const diffcsg::Vec3& v : m.vertices) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], v[k]);
-        hi[k] = std::max(hi[k], v[k]);
+  if (!(a.stop >= 0)) throw InputError("--stop: must not be negative");
+  if (a.random_views < 0) throw InputError("--random-views: must not be negative");
+  if (!(a.fov > 0 && a.fov < 180)) throw InputError("--fov: must be in (0, 180) degrees");
+  const auto shading = diffcsg::shading_from_name(a.shading);
+  if (!shading) throw InputError("--shading: normals or colours");
+  const auto loss = diffcsg::loss_from_name(a.loss);
+  if (!loss) throw InputError("--loss: l1, l2 or tanh");
+  diffcsg::TessellationOptions tess;
+  tess.sphere_subdivisions = a.sphere_subdivisions;
+  tess.cylinder_segments = a.cylinder_segments;
+  const diffcsg::OpenscadModel model = read_model(a.model, tess);
+  const diffcsg::Scene model_scene = diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
+
+  // The target: views, a mesh, or a model.
+  diffcsg::RefineTarget target;
+  target.shading = *shading;
+  std::string target_kind;
+  std::shared_ptr<const diffcsg::PreparedScene> target_scene;
+  if (has_extension(a.target, {".json"}) && diffcsg::is_views_file(a.target)) {
+    target_kind = "views";
+    diffcsg::ViewSet set = diffcsg::read_views(a.target);
+    if (set.shading != *shading) {
+      throw InputError(fmt::format("{}: its images are {}, --shading {}", a.target,
+                                   diffcsg::shading_name(set.shading), a.shading));
+    }
+    if (a.random_views > 0) {
+      throw InputError("--random-views: the target's images cannot be drawn from other views");
+    }
+    if (a.size_given) {
+      for (std::size_t v = 0; v < set.images.size(); ++v) {
+        if (set.images[v].width != a.size || set.images[v].height != a.size) {
+          throw InputError(fmt::format("{}: view {}'s image is {}x{}, --size {}", a.target, v,
+                                       set.images[v].width, set.images[v].height, a.size));
+        }
       }
     }
+    target.cameras = std::move(set.cameras);
+    target.images = std::move(set.images);
+  } else {
+    diffcsg::Scene scene;
+    if (has_extension(a.target, {".obj", ".stl", ".ply", ".off"})) {
+      target_kind = "mesh";
+      if (*shading == diffcsg::Shading::kColours) {
+        throw InputError("--shading colours: a mesh has no primitives to colour; use normals");
+      }
+      scene = diffcsg::read_mesh_scene(a.target);
+    } else {
+      target_kind = "model";
+      const diffcsg::OpenscadModel m = read_model(a.target, tess);
+      scene = diffcsg::scene_from_tree(m.tree, a.target, m.tessellation);
+      if (*shading == diffcsg::Shading::kColours &&
+          scene.primitives.size() != model_scene.primitives.size()) {
+        throw InputError(fmt::format(
+            "{}: {} primitives, the model {}: colour images need the same program (primitive k "
+            "for primitive k)",
+            a.target, scene.primitives.size(), model_scene.primitives.size()));
+      }
+    }
+    target_scene = std::make_shared<const diffcsg::PreparedScene>(
+        diffcsg::prepare_scene(std::move(scene), !a.no_intersection_aa));
+    const auto [lo, hi] = target_scene->scene.bounds();
+    const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    const double distance = a.distance > 0 ? a.distance
+                                           : diffcsg::framing_distance(target_scene->scene, centre,
+                                                                       a.fov, 1.2);
+    target.cameras =
+        diffcsg::orbit_views(centre, distance, a.views, a.elevation, a.size, a.size, a.fov);
+    const int threads = a.threads;
+    const diffcsg::Shading sh = *shading;
+    target.render = [target_scene, sh, threads](const diffcsg::Camera& c) {
+      return diffcsg::render_image(*target_scene, c, sh, threads);
+    };
+    for (const diffcsg::Camera& c : target.cameras) target.images.push_back(target.render(c));
   }
-  const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-  const double diagonal =
-      std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
-                (hi[2] - lo[2]) * (hi[2] - lo[2]));
-  const double distance = a.distance > 0
-                              ? a.distance
-                              : diagonal / 2 / std::sin(15 * 3.14159265358979323846 / 180) * 1.2;
-  std::vector<diffcsg::Camera> cams;
-  std::vector<diffcsg::Image> targets;
-  for (int v = 0; v < a.views; ++v) {
-    cams.push_back(diffcsg::Camera::orbit(centre, 30 + 360.0 * v / a.views, a.elevation, distance,
-                                          a.size, a.size, 30));
-    targets.push_back(render(target_scene, cams.back(), a.threads));
-  }
+  prepare_output_dir(a.out);
+
   diffcsg::RefineOptions o;
   o.iterations = a.iters;
   o.lr = a.lr;
-  o.stop_loss = a.stop;
+  o.loss = *loss;
+  o.stop_mse = a.stop;
   o.intersection_aa = !a.no_intersection_aa;
+  o.random_view_every = a.random_views;
+  o.seed = static_cast<std::uint64_t>(a.seed);
   o.threads = a.threads;
   const auto start = std::chrono::steady_clock::now();
-  const diffcsg::RefineResult r = diffcsg::refine_to_images(model, cams, targets, o);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!a.quiet) {
+    o.progress = [&, every = std::max(1, a.iters / 20)](int step, double l) {
+      if (step % every == 0) {
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        fmt::print("refine: step {:>5}  loss {:.4g}  {:.1f} steps/s\n", step, l,
+                   step / std::max(s, 1e-9));
+        std::fflush(stdout);
+      }
+      return true;
+    };
+  }
+  const diffcsg::RefineResult r = diffcsg::refine(model.tree, target, o, model.tessellation);
+
   const std::filesystem::path out(a.out);
-  io::write_text_file_atomic(out / "before.png", png_of(render(model_scene, cams[0], a.threads)));
-  io::write_text_file_atomic(out / "target.png", png_of(targets[0]));
+  const diffcsg::Camera& check = target.cameras[0];
+  const auto picture = [&](const diffcsg::Scene& s) {
+    return diffcsg::encode_image_png(
+        diffcsg::render_image(diffcsg::prepare_scene(s, !a.no_intersection_aa), check, *shading,
+                              a.threads),
+        *shading);
+  };
+  io::write_text_file_atomic(out / "before.png", picture(model_scene));
+  io::write_text_file_atomic(out / "target.png",
+                             diffcsg::encode_image_png(target.images[0], *shading));
   io::write_text_file_atomic(
-      out / "after.png",
-      png_of(render(diffcsg::scene_from_tree(r.tree, "refined"), cams[0], a.threads)));
+      out / "after.png", picture(diffcsg::scene_from_tree(r.tree, "refined", model.tessellation)));
   io::write_tree_file(r.tree, out / "tree.json");
   scad::write_scad(r.tree, r.tree.params.values(), out / "model.scad");
+
   nlohmann::json report;
   report["format"] = "fuzzycsg-refine-report";
   report["version"] = 1;
   report["command_line"] = command_line();
   report["model"] = a.model;
   report["target"] = a.target;
-  report["settings"] = {{"views", a.views},         {"size", a.size},
-                        {"iters", a.iters},         {"lr", a.lr},
-                        {"stop", a.stop},           {"intersection_aa", !a.no_intersection_aa},
-                        {"elevation", a.elevation}, {"distance", distance}};
+  report["target_kind"] = target_kind;
+  report["settings"] = {{"shading", diffcsg::shading_name(*shading)},
+                        {"loss", diffcsg::loss_name(*loss)},
+                        {"views", static_cast<int>(target.cameras.size())},
+                        {"size", {check.width, check.height}},
+                        {"iters", a.iters},
+                        {"lr", a.lr},
+                        {"stop", a.stop},
+                        {"random_views", a.random_views},
+                        {"seed", a.seed},
+                        {"intersection_aa", !a.no_intersection_aa},
+                        {"fov", check.fov_deg},
+                        {"triangles", model_scene.triangle_count()}};
   report["steps"] = r.steps;
   report["converged"] = r.converged;
   report["vanished"] = r.vanished;
+  const std::vector<std::string> paths = node_paths(r.tree);
+  report["unseen_primitives"] = nlohmann::json::array();
+  for (const int n : r.unseen_primitives) {
+    report["unseen_primitives"].push_back(paths[static_cast<std::size_t>(n)]);
+  }
   report["loss"] = r.loss;
-  report["seconds"] = seconds;
-  report["seconds_per_step"] = {{"visibility", r.seconds_visibility / std::max(1, r.steps + 1)},
-                                {"edges", r.seconds_edges / std::max(1, r.steps + 1)},
-                                {"antialias", r.seconds_antialias / std::max(1, r.steps + 1)},
-                                {"backward", r.seconds_backward / std::max(1, r.steps + 1)}};
+  report["check_mse"] = nlohmann::json::array();
+  for (const auto& [step, mse] : r.check_mse) report["check_mse"].push_back({step, mse});
+  report["seconds"] = r.seconds;
+  const int passes = std::max(1, static_cast<int>(r.loss.size()));
+  report["seconds_per_step"] = {{"visibility", r.seconds_visibility / passes},
+                                {"edges", r.seconds_edges / passes},
+                                {"antialias", r.seconds_antialias / passes},
+                                {"backward", r.seconds_backward / passes}};
+  report["parameters"] = nlohmann::json::array();
+  for (std::size_t k = 0; k < r.tree.params.size(); ++k) {
+    const Parameter& p = r.tree.params.at(k);
+    report["parameters"].push_back({{"name", p.name},
+                                    {"before", model.tree.params.at(k).value},
+                                    {"after", p.value},
+                                    {"fixed", p.fixed}});
+  }
   io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
+  if (!r.unseen_primitives.empty()) {
+    fmt::print(stderr, "refine: warning: {} primitive(s) no longer seen in any view (first {})\n",
+               r.unseen_primitives.size(),
+               paths[static_cast<std::size_t>(r.unseen_primitives.front())]);
+  }
   if (r.vanished) {
-    fmt::print(stderr, "refine: the model vanished from every view at step {}; stopped\n", r.steps);
+    fmt::print(stderr,
+               "refine: the model vanished from every view at step {}; stopped (wrote the last "
+               "parameters that showed it)\n",
+               r.steps);
+    return 1;
   }
   if (!a.quiet) {
+    const double final_mse = r.check_mse.empty() ? NAN : r.check_mse.back().second;
     fmt::print(
-        "refine: loss {:.3g} -> {:.3g} in {} steps ({:.1f} s{}); wrote {}/{{tree.json, "
-        "model.scad, report.json, before.png, after.png, target.png}}\n",
-        r.loss.front(), r.loss.back(), r.steps, seconds, r.converged ? ", converged" : "", a.out);
+        "refine: loss {:.3g} -> {:.3g} in {} steps ({:.1f} s{}); check-view MSE {:.3g}; wrote "
+        "{}/{{tree.json, model.scad, report.json, before.png, after.png, target.png}}\n",
+        r.loss.front(), r.loss.back(), r.steps, r.seconds, r.converged ? ", converged" : "",
+        final_mse, a.out);
   }
   return 0;
 }
@@ -148,24 +251,48 @@ int run_refine(const RefineArgs& a) {
 Verb register_refine(CLI::App& app) {
   auto a = std::make_shared<RefineArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "refine", "Refine a CSG program's parameters so that its renderings match a target's");
-  cmd->add_option("model", a->model, "Tree file (3D; box, sphere, cylinder leaves)")->required();
-  cmd->add_option("--target", a->target, "Tree file of the same program, the target")->required();
+      "refine", "Refine a CSG program's parameters so that its renderings match a target");
+  cmd->add_option("model", a->model,
+                  "Tree file (3D; box, sphere, ellipsoid, cylinder, cone leaves) or OpenSCAD .csg")
+      ->required();
+  cmd->add_option("--target", a->target,
+                  "A model (tree file or .csg), a mesh (OBJ, STL, PLY, OFF) or a views file "
+                  "(images and cameras)")
+      ->required();
   cmd->add_option("-o,--output", a->out, "Output directory")->required();
-  cmd->add_option("--views", a->views, "Cameras around the target")->capture_default_str();
-  cmd->add_option("--size", a->size, "Image size (pixels, square)")->capture_default_str();
+  cmd->add_option("--shading", a->shading, "Images matched: normals or colours (per primitive)")
+      ->capture_default_str();
+  cmd->add_option("--loss", a->loss, "l1, l2 or tanh")->capture_default_str();
+  cmd->add_option("--views", a->views, "Cameras around a model or mesh target")
+      ->capture_default_str();
+  auto* size = cmd->add_option("--size", a->size, "Image size (pixels, square)")->capture_default_str();
   cmd->add_option("--iters", a->iters, "Adam steps at most")->capture_default_str();
   cmd->add_option("--lr", a->lr, "Learning rate")->capture_default_str();
-  cmd->add_option("--stop", a->stop, "Stop below this mean squared error")->capture_default_str();
+  cmd->add_option("--stop", a->stop, "Stop when view 0's mean squared error falls below this")
+      ->capture_default_str();
+  cmd->add_option("--random-views", a->random_views,
+                  "Train on one random view, drawn anew every K steps (model and mesh targets)")
+      ->capture_default_str();
+  cmd->add_option("--seed", a->seed, "Seed of the random views")->capture_default_str();
   cmd->add_option("--elevation", a->elevation, "Cameras' elevation, degrees")
       ->capture_default_str();
   cmd->add_option("--distance", a->distance, "Cameras' distance (0: the target fills the view)")
       ->capture_default_str();
+  cmd->add_option("--fov", a->fov, "Vertical field of view, degrees")->capture_default_str();
   cmd->add_flag("--no-intersection-aa", a->no_intersection_aa,
                 "Antialias silhouettes only (DiffCSG's ablation)");
+  cmd->add_option("--sphere-subdivisions", a->sphere_subdivisions,
+                  "Tree models: icosahedron subdivisions of spheres")
+      ->capture_default_str();
+  cmd->add_option("--cylinder-segments", a->cylinder_segments,
+                  "Tree models: sides of cylinders and cones")
+      ->capture_default_str();
   cmd->add_option("--threads", a->threads, "Threads (0: all)")->capture_default_str();
-  cmd->add_flag("-q,--quiet", a->quiet, "No summary line");
-  return {cmd, [a] { return run_refine(*a); }};
+  cmd->add_flag("-q,--quiet", a->quiet, "No progress or summary lines");
+  return {cmd, [a, size] {
+            a->size_given = size->count() > 0;
+            return run_refine(*a);
+          }};
 }
 
 }  // namespace fuzzycsg::app

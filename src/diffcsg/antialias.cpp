@@ -196,6 +196,16 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
                         const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
                         std::vector<std::vector<Vec3>>& grad_vertices,
                         const std::vector<IntersectionEdge>* edges) {
+  VertexGradient g;
+  g.g = std::move(grad_vertices);
+  antialias_backward(scene, camera, colour, pairs, grad_out, grad_colour, g, edges);
+  grad_vertices = std::move(g.g);
+}
+
+void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
+                        const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
+                        VertexGradient& grad_vertices,
+                        const std::vector<IntersectionEdge>* edges) {
   const CameraFrame cf = camera_frame(camera);
   const int ch = colour.channels;
   if (grad_colour.data.size() != colour.data.size()) {
@@ -203,10 +213,7 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
     std::fill(grad_colour.data.begin(), grad_colour.data.end(), 0.0f);
   }
   for (std::size_t k = 0; k < grad_out.data.size(); ++k) grad_colour.data[k] += grad_out.data[k];
-  grad_vertices.resize(scene.primitives.size());
-  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    grad_vertices[p].resize(scene.primitives[p].vertices.size(), Vec3{0, 0, 0});
-  }
+  grad_vertices.resize(scene);
   const int w = colour.width;
   for (const AaPair& pr : pairs) {
     const float* g = grad_out.at(pr.target);
@@ -245,13 +252,11 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
       std::swap(da_dx2, da_dy2);
     }
     const auto add = [&](int vertex, const Projection& pj, double gx, double gy) {
-      Vec3& out =
-          grad_vertices[static_cast<std::size_t>(pr.primitive)][static_cast<std::size_t>(vertex)];
-      for (int k = 0; k < 3; ++k) {
-        out[static_cast<std::size_t>(k)] +=
-            delta * (gx * pj.jacobian[static_cast<std::size_t>(k)] +
-                     gy * pj.jacobian[3 + static_cast<std::size_t>(k)]);
+      Vec3 out{};
+      for (std::size_t k = 0; k < 3; ++k) {
+        out[k] = delta * (gx * pj.jacobian[k] + gy * pj.jacobian[3 + k]);
       }
+      grad_vertices.add(pr.primitive, vertex, out, pr.target);
     };
     if (!x) {
       add(i1, a, da_dx1, da_dy1);
@@ -284,16 +289,11 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
                            mt.vertices[static_cast<std::size_t>(tri_t[0])],
                            mt.vertices[static_cast<std::size_t>(tri_t[1])],
                            mt.vertices[static_cast<std::size_t>(tri_t[2])], gp, g0, g1, ga, gb, gc);
-      auto& ge = grad_vertices[static_cast<std::size_t>(pe)];
-      auto& gt = grad_vertices[static_cast<std::size_t>(pt)];
-      for (int k = 0; k < 3; ++k) {
-        const std::size_t kk = static_cast<std::size_t>(k);
-        ge[static_cast<std::size_t>(v0)][kk] += g0[kk];
-        ge[static_cast<std::size_t>(v1)][kk] += g1[kk];
-        gt[static_cast<std::size_t>(tri_t[0])][kk] += ga[kk];
-        gt[static_cast<std::size_t>(tri_t[1])][kk] += gb[kk];
-        gt[static_cast<std::size_t>(tri_t[2])][kk] += gc[kk];
-      }
+      grad_vertices.add(pe, v0, g0, pr.target);
+      grad_vertices.add(pe, v1, g1, pr.target);
+      grad_vertices.add(pt, tri_t[0], ga, pr.target);
+      grad_vertices.add(pt, tri_t[1], gb, pr.target);
+      grad_vertices.add(pt, tri_t[2], gc, pr.target);
     };
     endpoint(a, da_dx1, da_dy1, x->p_source);
     endpoint(b, da_dx2, da_dy2, x->q_source);

@@ -2,16 +2,21 @@
 
 #include <fmt/core.h>
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::diffcsg {
 
@@ -242,14 +247,145 @@ Matrix multiply(const Matrix& a, const Matrix& b) {
   return c;
 }
 
-class Builder {
+// A primitive statement's arguments, checked.
+struct Primitive {
+  enum class Kind { kCube, kSphere, kCylinder } kind = Kind::kCube;
+  Vec3 size{1, 1, 1};  // cube
+  double r = 1;        // sphere
+  double h = 1, r1 = 1, r2 = 1;  // cylinder
+  bool center = false;
+  int fragments = 3;  // sphere, cylinder
+};
+
+// The argument `name`, or the positional one at `position` (-1: none).
+const Value* arg(const Statement& st, const std::string& name, int position) {
+  int k = 0;
+  for (const auto& [n, v] : st.args) {
+    if (!name.empty() && n == name) return &v;
+    if (n.empty()) {
+      if (k == position) return &v;
+      ++k;
+    }
+  }
+  return nullptr;
+}
+
+class StatementReader {
  public:
-  Builder(Scene& scene, const std::string& source) : scene_(scene), source_(source) {}
+  explicit StatementReader(const std::string& source) : source_(source) {}
+
+  [[noreturn]] void fail(const Statement& st, const std::string& what) const {
+    throw InputError(fmt::format("{}: line {}: {}: {}", source_, st.line, st.name, what));
+  }
+  [[noreturn]] void unsupported(const Statement& st) const {
+    throw InputError(
+        fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
+                    "multmatrix, union, difference, intersection, group)",
+                    source_, st.line, st.name));
+  }
+  static bool is_primitive(const Statement& st) {
+    return st.name == "cube" || st.name == "sphere" || st.name == "cylinder";
+  }
+
+  // multmatrix's matrix, row-major 4x4.
+  Matrix matrix(const Statement& st) const {
+    const Value* v = arg(st, "m", 0);
+    if (!v || v->kind != Value::Kind::kVector || v->items.size() < 3) {
+      fail(st, "m: a 4x4 matrix expected");
+    }
+    Matrix local{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    for (std::size_t r = 0; r < v->items.size() && r < 4; ++r) {
+      const Value& row = v->items[r];
+      if (row.kind != Value::Kind::kVector || row.items.size() != 4) {
+        fail(st, "m: rows of 4 numbers expected");
+      }
+      for (std::size_t k = 0; k < 4; ++k) {
+        if (row.items[k].kind != Value::Kind::kNumber) fail(st, "m: rows of 4 numbers expected");
+        local[r * 4 + k] = row.items[k].number;
+      }
+    }
+    return local;
+  }
+
+  Primitive primitive(const Statement& st) const {
+    if (!is_primitive(st)) unsupported(st);
+    if (!st.children.empty()) fail(st, "a primitive has no children");
+    const double fn = number(st, "$fn", 0), fa = number(st, "$fa", 12), fs = number(st, "$fs", 2);
+    if (!(fa > 0) || !(fs > 0) || fn < 0) fail(st, "$fn, $fa, $fs out of range");
+    Primitive p;
+    p.center = boolean(st, "center", false);
+    if (st.name == "cube") {
+      p.kind = Primitive::Kind::kCube;
+      if (const Value* v = arg(st, "size", 0)) {
+        if (v->kind == Value::Kind::kNumber) {
+          p.size = {v->number, v->number, v->number};
+        } else if (v->kind == Value::Kind::kVector && v->items.size() == 3) {
+          for (std::size_t k = 0; k < 3; ++k) p.size[k] = v->items[k].number;
+        } else {
+          fail(st, "size: a number or [x, y, z] expected");
+        }
+      }
+      if (!(p.size[0] > 0 && p.size[1] > 0 && p.size[2] > 0)) fail(st, "size: must be positive");
+    } else if (st.name == "sphere") {
+      p.kind = Primitive::Kind::kSphere;
+      if (arg(st, "r", -1)) {
+        p.r = number(st, "r", 1);
+      } else if (arg(st, "d", -1)) {
+        p.r = number(st, "d", 2) / 2;
+      } else if (arg(st, "", 0)) {
+        p.r = number(st, "", 1);  // positional r
+      }
+      if (!(p.r > 0)) fail(st, "r: must be positive");
+      p.fragments = openscad_fragments(p.r, fn, fs, fa);
+    } else {
+      p.kind = Primitive::Kind::kCylinder;
+      p.h = number(st, "h", 1);
+      double r1 = number(st, "r1", -1), r2 = number(st, "r2", -1);
+      const double r = number(st, "r", -1);
+      if (r1 < 0)
+        r1 = arg(st, "d1", -1) ? number(st, "d1", 0) / 2
+                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
+      if (r2 < 0)
+        r2 = arg(st, "d2", -1) ? number(st, "d2", 0) / 2
+                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
+      if (!(p.h > 0) || r1 < 0 || r2 < 0 || !(r1 > 0 || r2 > 0)) {
+        fail(st, "h must be positive and r1, r2 not negative, one of them positive");
+      }
+      p.r1 = r1;
+      p.r2 = r2;
+      p.fragments = openscad_fragments(std::max(r1, r2), fn, fs, fa);
+    }
+    return p;
+  }
+
+ private:
+  double number(const Statement& st, const std::string& name, double fallback) const {
+    const Value* v = name.empty() ? arg(st, "", 0) : arg(st, name, -1);
+    if (!v || v->kind == Value::Kind::kUndef) return fallback;
+    if (v->kind != Value::Kind::kNumber) {
+      throw InputError(fmt::format("{}: line {}: {}: {}: a number expected", source_, st.line,
+                                   st.name, name.empty() ? "argument 1" : name));
+    }
+    return v->number;
+  }
+  bool boolean(const Statement& st, const std::string& name, bool fallback) const {
+    const Value* v = arg(st, name, -1);
+    if (!v || v->kind == Value::Kind::kUndef) return fallback;
+    if (v->kind == Value::Kind::kBool) return v->boolean;
+    if (v->kind == Value::Kind::kNumber) return v->number != 0;
+    throw InputError(fmt::format("{}: line {}: {}: {}: true or false expected", source_, st.line,
+                                 st.name, name));
+  }
+
+  const std::string& source_;
+};
+
+// The meshed primitives of a model, in the world.
+class SceneBuilder {
+ public:
+  SceneBuilder(Scene& scene, const std::string& source) : scene_(scene), read_(source) {}
 
   int node(const Statement& st, const Matrix& m) {
-    const auto fail = [&](const std::string& what) -> void {
-      throw InputError(fmt::format("{}: line {}: {}: {}", source_, st.line, st.name, what));
-    };
     if (st.name == "group" || st.name == "union" || st.name == "color" || st.name == "render") {
       return op(CsgNode::Kind::kUnion, children(st, m));
     }
@@ -264,97 +400,23 @@ class Builder {
       return op(CsgNode::Kind::kDifference, {first, rest});
     }
     if (st.name == "multmatrix") {
-      const Value* v = arg(st, "m", 0);
-      if (!v || v->kind != Value::Kind::kVector || v->items.size() < 3)
-        fail("m: a 4x4 matrix expected");
-      Matrix local{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-      for (std::size_t r = 0; r < v->items.size() && r < 4; ++r) {
-        const Value& row = v->items[r];
-        if (row.kind != Value::Kind::kVector || row.items.size() != 4)
-          fail("m: rows of 4 numbers expected");
-        for (std::size_t k = 0; k < 4; ++k) {
-          if (row.items[k].kind != Value::Kind::kNumber) fail("m: rows of 4 numbers expected");
-          local[r * 4 + k] = row.items[k].number;
-        }
-      }
-      return op(CsgNode::Kind::kUnion, children(st, multiply(m, local)));
+      return op(CsgNode::Kind::kUnion, children(st, multiply(m, read_.matrix(st))));
     }
-    if (st.name != "cube" && st.name != "sphere" && st.name != "cylinder") {
-      throw InputError(
-          fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
-                      "multmatrix, union, difference, intersection, group)",
-                      source_, st.line, st.name));
-    }
-    if (!st.children.empty()) fail("a primitive has no children");
-    const double fn = number(st, "$fn", 0), fa = number(st, "$fa", 12), fs = number(st, "$fs", 2);
-    if (!(fa > 0) || !(fs > 0) || fn < 0) fail("$fn, $fa, $fs out of range");
+    const Primitive p = read_.primitive(st);
     TriMesh mesh;
-    if (st.name == "cube") {
-      Vec3 size{1, 1, 1};
-      if (const Value* v = arg(st, "size", 0)) {
-        if (v->kind == Value::Kind::kNumber) {
-          size = {v->number, v->number, v->number};
-        } else if (v->kind == Value::Kind::kVector && v->items.size() == 3) {
-          for (std::size_t k = 0; k < 3; ++k) size[k] = v->items[k].number;
-        } else {
-          fail("size: a number or [x, y, z] expected");
-        }
-      }
-      if (!(size[0] > 0 && size[1] > 0 && size[2] > 0)) fail("size: must be positive");
-      const bool center = boolean(st, "center", false);
+    if (p.kind == Primitive::Kind::kCube) {
       mesh = unit_box();
-      for (Vec3& p : mesh.vertices) {
-        for (int k = 0; k < 3; ++k) p[k] = (p[k] + (center ? 0 : 0.5)) * size[k];
+      for (Vec3& v : mesh.vertices) {
+        for (std::size_t k = 0; k < 3; ++k) v[k] = (v[k] + (p.center ? 0 : 0.5)) * p.size[k];
       }
-    } else if (st.name == "sphere") {
-      double r = 1;
-      if (arg(st, "r", -1)) {
-        r = number(st, "r", 1);
-      } else if (arg(st, "d", -1)) {
-        r = number(st, "d", 2) / 2;
-      } else if (arg(st, "", 0)) {
-        r = number(st, "", 1);  // positional r
+    } else if (p.kind == Primitive::Kind::kSphere) {
+      mesh = openscad_sphere(p.fragments);
+      for (Vec3& v : mesh.vertices) {
+        for (double& x : v) x *= p.r;
       }
-      if (!(r > 0)) fail("r: must be positive");
-      const int fragments = openscad_fragments(r, fn, fs, fa);
-      const int rings = (fragments + 1) / 2;
-      for (int i = 0; i < rings; ++i) {
-        const double phi = std::numbers::pi * (i + 0.5) / rings;
-        const double radius = r * std::sin(phi), z = r * std::cos(phi);
-        for (int j = 0; j < fragments; ++j) {
-          const double a = 2 * std::numbers::pi * j / fragments;
-          mesh.vertices.push_back({radius * std::cos(a), radius * std::sin(a), z});
-        }
-      }
-      const auto at = [&](int ring, int j) { return ring * fragments + (j % fragments); };
-      for (int j = 1; j + 1 < fragments; ++j) {  // top cap (ring 0, z > 0), seen from above
-        mesh.triangles.push_back({at(0, 0), at(0, j), at(0, j + 1)});
-      }
-      for (int i = 0; i + 1 < rings; ++i) {
-        for (int j = 0; j < fragments; ++j) {
-          mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-          mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-        }
-      }
-      for (int j = 1; j + 1 < fragments; ++j) {  // bottom cap
-        mesh.triangles.push_back({at(rings - 1, 0), at(rings - 1, j + 1), at(rings - 1, j)});
-      }
-    } else if (st.name == "cylinder") {
-      const double h = number(st, "h", 1);
-      double r1 = number(st, "r1", -1), r2 = number(st, "r2", -1);
-      const double r = number(st, "r", -1);
-      if (r1 < 0)
-        r1 = arg(st, "d1", -1) ? number(st, "d1", 0) / 2
-                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
-      if (r2 < 0)
-        r2 = arg(st, "d2", -1) ? number(st, "d2", 0) / 2
-                               : (r >= 0 ? r : (arg(st, "d", -1) ? number(st, "d", 0) / 2 : 1));
-      if (!(h > 0) || r1 < 0 || r2 < 0 || !(r1 > 0 || r2 > 0)) {
-        fail("h must be positive and r1, r2 not negative, one of them positive");
-      }
-      const bool center = boolean(st, "center", false);
-      const double z1 = center ? -h / 2 : 0, z2 = center ? h / 2 : h;
-      const int fragments = openscad_fragments(std::max(r1, r2), fn, fs, fa);
+    } else {
+      const double z1 = p.center ? -p.h / 2 : 0, z2 = p.center ? p.h / 2 : p.h;
+      const int fragments = p.fragments;
       const auto ring = [&](double rr, double z) {
         const int base = static_cast<int>(mesh.vertices.size());
         if (rr == 0) {
@@ -367,34 +429,33 @@ class Builder {
         }
         return base;
       };
+      const double r1 = p.r1, r2 = p.r2;
       const int b = ring(r1, z1), t = ring(r2, z2);
       const auto vb = [&](int j) { return r1 == 0 ? b : b + j % fragments; };
       const auto vt = [&](int j) { return r2 == 0 ? t : t + j % fragments; };
+      const auto add = [&](std::array<int, 3> tri, int group) {
+        mesh.triangles.push_back(tri);
+        mesh.smoothing.push_back(group);
+      };
       for (int j = 0; j < fragments; ++j) {
-        if (r1 > 0) mesh.triangles.push_back({vb(j), vb(j + 1), vt(j + 1)});
-        if (r2 > 0) mesh.triangles.push_back({vb(j), vt(j + 1), vt(j)});
+        if (r1 > 0) add({vb(j), vb(j + 1), vt(j + 1)}, 0);
+        if (r2 > 0) add({vb(j), vt(j + 1), vt(j)}, 0);
       }
       for (int j = 1; j + 1 < fragments; ++j) {
-        if (r1 > 0) mesh.triangles.push_back({vb(0), vb(j + 1), vb(j)});
-        if (r2 > 0) mesh.triangles.push_back({vt(0), vt(j), vt(j + 1)});
+        if (r1 > 0) add({vb(0), vb(j + 1), vb(j)}, -1);
+        if (r2 > 0) add({vt(0), vt(j), vt(j + 1)}, -1);
       }
-    } else {
-      throw InputError(
-          fmt::format("{}: line {}: unsupported node '{}' (cube, sphere, cylinder, "
-                      "multmatrix, union, difference, intersection, group)",
-                      source_, st.line, st.name));
     }
     // Into the world, with outward normals (a mirroring matrix turns the winding over).
-    double volume = 0;
-    for (Vec3& p : mesh.vertices) {
-      const Vec3 q = p;
+    for (Vec3& v : mesh.vertices) {
+      const Vec3 q = v;
       for (int r = 0; r < 3; ++r) {
-        p[static_cast<std::size_t>(r)] =
+        v[static_cast<std::size_t>(r)] =
             m[r * 4] * q[0] + m[r * 4 + 1] * q[1] + m[r * 4 + 2] * q[2] + m[r * 4 + 3];
       }
     }
-    volume = signed_volume6(mesh);
-    if (!(std::abs(volume) > 0)) fail("the primitive has no volume");
+    const double volume = signed_volume6(mesh);
+    if (!(std::abs(volume) > 0)) read_.fail(st, "the primitive has no volume");
     if (volume < 0) {
       for (auto& tri : mesh.triangles) std::swap(tri[1], tri[2]);
     }
@@ -415,46 +476,159 @@ class Builder {
     return static_cast<int>(scene_.nodes.size()) - 1;
   }
 
+ private:
   std::vector<int> children(const Statement& st, const Matrix& m) {
     std::vector<int> out;
     for (const Statement& c : st.children) out.push_back(node(c, m));
     return out;
   }
 
- private:
-  // The argument `name`, or the positional one at `position` (-1: none).
-  static const Value* arg(const Statement& st, const std::string& name, int position) {
-    int k = 0;
-    for (const auto& [n, v] : st.args) {
-      if (!name.empty() && n == name) return &v;
-      if (n.empty()) {
-        if (k == position) return &v;
-        ++k;
+  Scene& scene_;
+  StatementReader read_;
+};
+
+// Euler angles (degrees, rotate([ax, ay, az]): R = Rz Ry Rx) of a rotation matrix.
+Vec3 euler_angles(const std::array<double, 9>& r) {
+  const double deg = 180 / std::numbers::pi;
+  const double ay = std::asin(std::clamp(-r[6], -1.0, 1.0));
+  if (std::abs(std::cos(ay)) > 1e-9) {
+    return {std::atan2(r[7], r[8]) * deg, ay * deg, std::atan2(r[3], r[0]) * deg};
+  }
+  return {0, ay * deg, std::atan2(-r[1], r[4]) * deg};
+}
+
+// The model as tree-file JSON: leaves with translate, rotate and their sizes.
+class TreeBuilder {
+ public:
+  TreeBuilder(const std::string& source, std::map<std::string, int>& fragments)
+      : read_(source), fragments_(fragments) {}
+
+  // A node's JSON, or null for one with nothing in it.
+  nlohmann::ordered_json node(const Statement& st, const Matrix& m) {
+    if (st.name == "group" || st.name == "union" || st.name == "color" || st.name == "render") {
+      return op("union", children(st, m));
+    }
+    if (st.name == "intersection") return op("intersection", children(st, m));
+    if (st.name == "difference") {
+      std::vector<nlohmann::ordered_json> c = children(st, m);
+      if (c.empty()) return nullptr;
+      nlohmann::ordered_json first = std::move(c.front());
+      c.erase(c.begin());
+      if (c.empty()) return first;
+      return op("difference", {std::move(first), op("union", std::move(c))});
+    }
+    if (st.name == "multmatrix") return op("union", children(st, multiply(m, read_.matrix(st))));
+    const Primitive p = read_.primitive(st);
+    // World point = A (l + offset) + T, l the primitive's centred local point.
+    Vec3 offset{0, 0, 0};
+    nlohmann::ordered_json leaf;
+    std::string name = fmt::format("{} line {}", st.name, st.line);
+    for (int k = 2; names_.count(name); ++k) name = fmt::format("{} line {} #{}", st.name, st.line, k);
+    names_.insert(name);
+    leaf["name"] = name;
+    std::array<double, 9> a{m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+    Vec3 scale{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      scale[c] = std::sqrt(a[c] * a[c] + a[3 + c] * a[3 + c] + a[6 + c] * a[6 + c]);
+      if (!(scale[c] > 0)) read_.fail(st, "its placement flattens it (a zero scale)");
+    }
+    std::array<double, 9> r{};
+    for (std::size_t row = 0; row < 3; ++row) {
+      for (std::size_t c = 0; c < 3; ++c) r[row * 3 + c] = a[row * 3 + c] / scale[c];
+    }
+    for (std::size_t c = 0; c < 3; ++c) {
+      for (std::size_t d = c + 1; d < 3; ++d) {
+        const double cosine = r[c] * r[d] + r[3 + c] * r[3 + d] + r[6 + c] * r[6 + d];
+        if (std::abs(cosine) > 1e-6) {
+          read_.fail(st, "its placement shears it, which a tree's translate, rotate and size "
+                         "cannot express");
+        }
       }
     }
-    return nullptr;
-  }
-  double number(const Statement& st, const std::string& name, double fallback) const {
-    const Value* v = name.empty() ? arg(st, "", 0) : arg(st, name, -1);
-    if (!v || v->kind == Value::Kind::kUndef) return fallback;
-    if (v->kind != Value::Kind::kNumber) {
-      throw InputError(fmt::format("{}: line {}: {}: {}: a number expected", source_, st.line,
-                                   st.name, name.empty() ? "argument 1" : name));
+    const double det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) +
+                       r[2] * (r[3] * r[7] - r[4] * r[6]);
+    if (det < 0) {  // a mirror: the primitives are symmetric in their local x
+      r[0] = -r[0];
+      r[3] = -r[3];
+      r[6] = -r[6];
     }
-    return v->number;
-  }
-  bool boolean(const Statement& st, const std::string& name, bool fallback) const {
-    const Value* v = arg(st, name, -1);
-    if (!v || v->kind == Value::Kind::kUndef) return fallback;
-    if (v->kind == Value::Kind::kBool) return v->boolean;
-    if (v->kind == Value::Kind::kNumber) return v->number != 0;
-    throw InputError(fmt::format("{}: line {}: {}: {}: true or false expected", source_, st.line,
-                                 st.name, name));
+    const auto same = [](double x, double y) { return std::abs(x - y) <= 1e-9 * std::max(x, y); };
+    switch (p.kind) {
+      case Primitive::Kind::kCube:
+        if (!p.center) offset = {p.size[0] / 2, p.size[1] / 2, p.size[2] / 2};
+        leaf["type"] = "box";
+        leaf["size"] = {p.size[0] * scale[0], p.size[1] * scale[1], p.size[2] * scale[2]};
+        break;
+      case Primitive::Kind::kSphere:
+        if (same(scale[0], scale[1]) && same(scale[1], scale[2])) {
+          leaf["type"] = "sphere";
+          leaf["radius"] = p.r * scale[0];
+        } else {
+          leaf["type"] = "ellipsoid";
+          leaf["radii"] = {p.r * scale[0], p.r * scale[1], p.r * scale[2]};
+        }
+        break;
+      case Primitive::Kind::kCylinder:
+        if (!p.center) offset = {0, 0, p.h / 2};
+        if (!same(scale[0], scale[1])) {
+          read_.fail(st, "a scale that differs across its axis makes an elliptic cylinder, which "
+                         "no tree family is");
+        }
+        if (p.r1 == p.r2) {
+          leaf["type"] = "cylinder";
+          leaf["radius"] = p.r1 * scale[0];
+          leaf["height"] = p.h * scale[2];
+        } else {
+          leaf["type"] = "cone";
+          leaf["radius1"] = p.r1 * scale[0];
+          leaf["radius2"] = p.r2 * scale[0];
+          leaf["height"] = p.h * scale[2];
+        }
+        break;
+    }
+    Vec3 t{m[3], m[7], m[11]};
+    for (std::size_t row = 0; row < 3; ++row) {
+      t[row] += a[row * 3] * offset[0] + a[row * 3 + 1] * offset[1] + a[row * 3 + 2] * offset[2];
+    }
+    const Vec3 angles = euler_angles(r);
+    leaf["translate"] = {t[0], t[1], t[2]};
+    leaf["rotate"] = {angles[0], angles[1], angles[2]};
+    leaf["step"] = "crisp";
+    if (p.kind != Primitive::Kind::kCube) fragments_[name] = p.fragments;
+    return leaf;
   }
 
-  Scene& scene_;
-  const std::string& source_;
+  static nlohmann::ordered_json op(const char* kind, std::vector<nlohmann::ordered_json> c) {
+    std::erase_if(c, [](const nlohmann::ordered_json& j) { return j.is_null(); });
+    if (c.empty()) return nullptr;
+    if (c.size() == 1) return std::move(c.front());
+    nlohmann::ordered_json out;
+    out["op"] = kind;
+    out["children"] = std::move(c);
+    return out;
+  }
+
+ private:
+  std::vector<nlohmann::ordered_json> children(const Statement& st, const Matrix& m) {
+    std::vector<nlohmann::ordered_json> out;
+    for (const Statement& c : st.children) out.push_back(node(c, m));
+    return out;
+  }
+
+  StatementReader read_;
+  std::map<std::string, int>& fragments_;
+  std::set<std::string> names_;
 };
+
+const Matrix kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 }  // namespace
 
@@ -462,21 +636,45 @@ Scene parse_openscad_csg(std::string_view text, const std::string& source) {
   Parser parser(text, source);
   const std::vector<Statement> top = parser.statements(false);
   Scene scene;
-  Builder builder(scene, source);
-  const Matrix identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  SceneBuilder builder(scene, source);
   std::vector<int> roots;
-  for (const Statement& st : top) roots.push_back(builder.node(st, identity));
+  for (const Statement& st : top) roots.push_back(builder.node(st, kIdentity));
   scene.root = roots.size() == 1 ? roots.front() : builder.op(CsgNode::Kind::kUnion, roots);
   if (scene.primitives.empty()) throw InputError(fmt::format("{}: no primitives", source));
   return scene;
 }
 
 Scene read_openscad_csg(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_openscad_csg(text.str(), path.string());
+  return parse_openscad_csg(read_text(path), path.string());
+}
+
+OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source) {
+  Parser parser(text, source);
+  const std::vector<Statement> top = parser.statements(false);
+  std::map<std::string, int> fragments;
+  TreeBuilder builder(source, fragments);
+  std::vector<nlohmann::ordered_json> roots;
+  for (const Statement& st : top) roots.push_back(builder.node(st, kIdentity));
+  nlohmann::ordered_json root = TreeBuilder::op("union", std::move(roots));
+  if (root.is_null()) throw InputError(fmt::format("{}: no primitives", source));
+  nlohmann::ordered_json file;
+  file["format"] = "fuzzycsg-tree";
+  file["version"] = 1;
+  file["dim"] = 3;
+  file["root"] = std::move(root);
+  OpenscadModel out{io::read_tree_string(file.dump(), source), {}};
+  for (std::size_t i = 0; i < out.tree.nodes.size(); ++i) {
+    const Node& n = out.tree.nodes[i];
+    if (n.kind != NodeKind::kPrimitive) continue;
+    if (const auto it = fragments.find(n.name); it != fragments.end()) {
+      out.tessellation.openscad_fragments[static_cast<int>(i)] = it->second;
+    }
+  }
+  return out;
+}
+
+OpenscadModel read_openscad_csg_tree(const std::filesystem::path& path) {
+  return parse_openscad_csg_tree(read_text(path), path.string());
 }
 
 }  // namespace fuzzycsg::diffcsg

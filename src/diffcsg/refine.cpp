@@ -2,8 +2,11 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <random>
+#include <set>
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/placement.hpp"
@@ -11,94 +14,113 @@
 
 namespace fuzzycsg::diffcsg {
 
+namespace {
+
+Vec3 rotate(const std::array<double, 9>& r, const Vec3& l) {
+  return {r[0] * l[0] + r[1] * l[1] + r[2] * l[2], r[3] * l[0] + r[4] * l[1] + r[5] * l[2],
+          r[6] * l[0] + r[7] * l[1] + r[8] * l[2]};
+}
+
+}  // namespace
+
 std::vector<double> parameter_gradient(const Tree& tree, const Scene& scene,
-                                       const std::vector<std::vector<Vec3>>& grad_vertices,
-                                       const TessellationOptions& options) {
+                                       const std::vector<std::vector<Vec3>>& grad_vertices) {
+  if (scene.bindings.size() != scene.primitives.size()) {
+    throw Error("parameter_gradient: the scene was not built from a tree");
+  }
   std::vector<double> grad(tree.params.size(), 0.0);
   const auto value = [&](ParamRef r) { return tree.params[r].value; };
-  const auto add = [&](ParamRef r, double g) { grad[r.index] += g; };
-  const TriMesh box = unit_box(), sphere = unit_sphere(options.sphere_subdivisions),
-                cylinder = unit_cylinder(options.cylinder_segments);
-  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const Node& n = tree.node(scene.tree_node[p]);
-    const TriMesh* unit = n.shape.type == PrimitiveType::kBox      ? &box
-                          : n.shape.type == PrimitiveType::kSphere ? &sphere
-                                                                   : &cylinder;
-    Vec3 size{1, 1, 1};
-    if (n.shape.type == PrimitiveType::kBox) {
-      size = {value(n.intrinsic[0]), value(n.intrinsic[1]), value(n.intrinsic[2])};
-    } else if (n.shape.type == PrimitiveType::kSphere) {
-      size = {value(n.intrinsic[0]), value(n.intrinsic[0]), value(n.intrinsic[0])};
-    } else {
-      size = {value(n.intrinsic[0]), value(n.intrinsic[0]), value(n.intrinsic[1])};
-    }
-    std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
-    const bool rotated = n.placement.rotate.size() == 3;
-    if (rotated) {
-      r = placement::rotation_3d(value(n.placement.rotate[0]), value(n.placement.rotate[1]),
-                                 value(n.placement.rotate[2]));
-    }
-    const double s = n.placement.scale ? value(*n.placement.scale) : 1.0;
+  for (std::size_t p = 0; p < scene.primitives.size() && p < grad_vertices.size(); ++p) {
+    const PrimitiveBinding& b = scene.bindings[p];
+    const std::array<double, 9>& r = b.rotation;
+    const double s = b.scale_value;
     std::array<double, 9> g_rot{};  // dL/dR
-    Vec3 g_t{0, 0, 0}, g_size{0, 0, 0};
+    Vec3 g_t{0, 0, 0};
     double g_s = 0;
     const std::vector<Vec3>& gv = grad_vertices[p];
-    for (std::size_t v = 0; v < unit->vertices.size() && v < gv.size(); ++v) {
-      const Vec3& u = unit->vertices[v];
+    for (std::size_t v = 0; v < b.local.size() && v < gv.size(); ++v) {
       const Vec3& g = gv[v];
-      const Vec3 l{s * size[0] * u[0], s * size[1] * u[1], s * size[2] * u[2]};
-      for (int a = 0; a < 3; ++a) {
-        g_t[static_cast<std::size_t>(a)] += g[static_cast<std::size_t>(a)];
-        for (int b = 0; b < 3; ++b) {
-          g_rot[static_cast<std::size_t>(a * 3 + b)] +=
-              g[static_cast<std::size_t>(a)] * l[static_cast<std::size_t>(b)];
-        }
+      if (g[0] == 0 && g[1] == 0 && g[2] == 0) continue;
+      const Vec3& l = b.local[v];
+      // v = t + s R l.
+      for (std::size_t a = 0; a < 3; ++a) {
+        g_t[a] += g[a];
+        for (std::size_t c = 0; c < 3; ++c) g_rot[a * 3 + c] += s * g[a] * l[c];
       }
-      // v = t + R l: dv/dl_b = R[:, b]; l_b = s size_b u_b.
-      for (int b = 0; b < 3; ++b) {
-        double gr = 0;  // g . R[:, b]
-        for (int a = 0; a < 3; ++a) {
-          gr += g[static_cast<std::size_t>(a)] * r[static_cast<std::size_t>(a * 3 + b)];
-        }
-        g_size[static_cast<std::size_t>(b)] += gr * s * u[static_cast<std::size_t>(b)];
-        g_s += gr * size[static_cast<std::size_t>(b)] * u[static_cast<std::size_t>(b)];
+      const Vec3 rl = rotate(r, l);
+      g_s += dot(g, rl);
+      // dL/dl = s R^T g.
+      const Vec3 gl{s * (r[0] * g[0] + r[3] * g[1] + r[6] * g[2]),
+                    s * (r[1] * g[0] + r[4] * g[1] + r[7] * g[2]),
+                    s * (r[2] * g[0] + r[5] * g[1] + r[8] * g[2])};
+      for (std::uint32_t k = b.offsets[v]; k < b.offsets[v + 1]; ++k) {
+        grad[b.terms[k].param.index] += dot(gl, b.terms[k].coefficient);
       }
     }
-    for (std::size_t k = 0; k < n.placement.translate.size() && k < 3; ++k) {
-      add(n.placement.translate[k], g_t[k]);
+    for (std::size_t k = 0; k < b.translate.size() && k < 3; ++k) {
+      grad[b.translate[k].index] += g_t[k];
     }
-    if (rotated) {
-      const std::array<double, 3> ga =
-          placement::rotation_3d_vjp(value(n.placement.rotate[0]), value(n.placement.rotate[1]),
-                                     value(n.placement.rotate[2]), g_rot);
-      for (std::size_t k = 0; k < 3; ++k) add(n.placement.rotate[k], ga[k]);
+    if (b.rotate.size() == 3) {
+      const std::array<double, 3> ga = placement::rotation_3d_vjp(
+          value(b.rotate[0]), value(b.rotate[1]), value(b.rotate[2]), g_rot);
+      for (std::size_t k = 0; k < 3; ++k) grad[b.rotate[k].index] += ga[k];
     }
-    if (n.placement.scale) add(*n.placement.scale, g_s);
-    if (n.shape.type == PrimitiveType::kBox) {
-      for (std::size_t k = 0; k < 3; ++k) add(n.intrinsic[k], g_size[k]);
-    } else if (n.shape.type == PrimitiveType::kSphere) {
-      add(n.intrinsic[0], g_size[0] + g_size[1] + g_size[2]);
-    } else {
-      add(n.intrinsic[0], g_size[0] + g_size[1]);
-      add(n.intrinsic[1], g_size[2]);
-    }
+    if (b.scale) grad[b.scale->index] += g_s;
   }
   return grad;
 }
 
-std::array<float, 3> primitive_colour(int p) {
-  static constexpr std::array<std::array<float, 3>, 10> kPalette{{{31, 119, 180},
-                                                                  {255, 127, 14},
-                                                                  {44, 160, 44},
-                                                                  {214, 39, 40},
-                                                                  {148, 103, 189},
-                                                                  {140, 86, 75},
-                                                                  {227, 119, 194},
-                                                                  {127, 127, 127},
-                                                                  {188, 189, 34},
-                                                                  {23, 190, 207}}};
-  const auto& c = kPalette[static_cast<std::size_t>(p) % kPalette.size()];
-  return {c[0] / 255.0f, c[1] / 255.0f, c[2] / 255.0f};
+std::vector<std::vector<Vec3>> vertex_tangent(const Tree& tree, const Scene& scene,
+                                              std::size_t param) {
+  if (scene.bindings.size() != scene.primitives.size()) {
+    throw Error("vertex_tangent: the scene was not built from a tree");
+  }
+  if (param >= tree.params.size()) throw Error("vertex_tangent: no such parameter");
+  const auto value = [&](ParamRef r) { return tree.params[r].value; };
+  std::vector<std::vector<Vec3>> out(scene.primitives.size());
+  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+    const PrimitiveBinding& b = scene.bindings[p];
+    out[p].assign(b.local.size(), Vec3{0, 0, 0});
+    // dR/dθ where θ is one of the angles: the Jacobian column, from the VJP of unit matrices.
+    std::array<double, 9> d_rot{};
+    bool rotates = false;
+    for (std::size_t k = 0; k < b.rotate.size() && k < 3; ++k) {
+      if (b.rotate[k].index != param) continue;
+      rotates = true;
+      for (std::size_t e = 0; e < 9; ++e) {
+        std::array<double, 9> unit{};
+        unit[e] = 1;
+        d_rot[e] += placement::rotation_3d_vjp(value(b.rotate[0]), value(b.rotate[1]),
+                                               value(b.rotate[2]), unit)[k];
+      }
+    }
+    Vec3 d_t{0, 0, 0};
+    for (std::size_t k = 0; k < b.translate.size() && k < 3; ++k) {
+      if (b.translate[k].index == param) d_t[k] += 1;
+    }
+    const bool scales = b.scale && b.scale->index == param;
+    for (std::size_t v = 0; v < b.local.size(); ++v) {
+      const Vec3& l = b.local[v];
+      Vec3 dl{0, 0, 0};
+      for (std::uint32_t k = b.offsets[v]; k < b.offsets[v + 1]; ++k) {
+        if (b.terms[k].param.index != param) continue;
+        for (std::size_t c = 0; c < 3; ++c) dl[c] += b.terms[k].coefficient[c];
+      }
+      Vec3 d = d_t;
+      const Vec3 rdl = rotate(b.rotation, dl);
+      for (std::size_t c = 0; c < 3; ++c) d[c] += b.scale_value * rdl[c];
+      if (scales) {
+        const Vec3 rl = rotate(b.rotation, l);
+        for (std::size_t c = 0; c < 3; ++c) d[c] += rl[c];
+      }
+      if (rotates) {
+        const Vec3 drl = rotate(d_rot, l);
+        for (std::size_t c = 0; c < 3; ++c) d[c] += b.scale_value * drl[c];
+      }
+      out[p][v] = d;
+    }
+  }
+  return out;
 }
 
 Image colour_image(const Frame& frame) {
@@ -106,30 +128,106 @@ Image colour_image(const Frame& frame) {
   for (std::size_t p = 0; p < frame.primitive.size(); ++p) {
     if (frame.primitive[p] < 0) continue;
     const auto c = primitive_colour(frame.primitive[p]);
-    for (int k = 0; k < 3; ++k) img.at(p)[k] = c[static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < 3; ++k) img.at(p)[k] = c[k];
   }
   return img;
 }
 
-RefineResult refine_to_images(const Tree& input, const std::vector<Camera>& cameras,
-                              const std::vector<Image>& targets, const RefineOptions& o,
-                              const TessellationOptions& tessellation) {
-  if (cameras.empty() || cameras.size() != targets.size()) {
-    throw InputError("refine: one target image per camera expected");
+std::string_view loss_name(Loss l) {
+  switch (l) {
+    case Loss::kL1:
+      return "l1";
+    case Loss::kL2:
+      return "l2";
+    case Loss::kTanh:
+      return "tanh";
   }
-  for (std::size_t v = 0; v < cameras.size(); ++v) {
-    if (targets[v].width != cameras[v].width || targets[v].height != cameras[v].height ||
-        targets[v].channels != 3) {
-      throw InputError(fmt::format("refine: target image {} is {}x{}, the camera's {}x{}", v,
-                                   targets[v].width, targets[v].height, cameras[v].width,
-                                   cameras[v].height));
+  return "l2";
+}
+
+std::optional<Loss> loss_from_name(std::string_view name) {
+  if (name == "l1") return Loss::kL1;
+  if (name == "l2") return Loss::kL2;
+  if (name == "tanh") return Loss::kTanh;
+  return std::nullopt;
+}
+
+double image_loss(const Image& image, const Image& target, Loss loss, Image* grad) {
+  if (image.width != target.width || image.height != target.height ||
+      image.channels != target.channels) {
+    throw Error("image_loss: the images differ in size");
+  }
+  if (grad) {
+    *grad = image;
+    std::fill(grad->data.begin(), grad->data.end(), 0.0f);
+  }
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  const std::size_t ch = static_cast<std::size_t>(image.channels);
+  if (pixels == 0) return 0;
+  double sum = 0;
+  if (loss == Loss::kTanh) {
+    for (std::size_t p = 0; p < pixels; ++p) {
+      double e = 0;
+      for (std::size_t c = 0; c < ch; ++c) {
+        const double d = image.data[p * ch + c] - target.data[p * ch + c];
+        e += d * d;
+      }
+      const double th = std::tanh(10 * e);
+      sum += th;
+      if (grad) {
+        const double k = (1 - th * th) * 10 / static_cast<double>(pixels);
+        for (std::size_t c = 0; c < ch; ++c) {
+          const double d = image.data[p * ch + c] - target.data[p * ch + c];
+          grad->data[p * ch + c] = static_cast<float>(k * 2 * d);
+        }
+      }
+    }
+    return sum / static_cast<double>(pixels);
+  }
+  const double n = static_cast<double>(pixels * ch);
+  for (std::size_t k = 0; k < pixels * ch; ++k) {
+    const double d = image.data[k] - target.data[k];
+    if (loss == Loss::kL1) {
+      sum += std::abs(d);
+      if (grad) grad->data[k] = static_cast<float>((d > 0 ? 1 : (d < 0 ? -1 : 0)) / n);
+    } else {
+      sum += d * d;
+      if (grad) grad->data[k] = static_cast<float>(2 * d / n);
     }
   }
-  if (o.iterations < 0 || !(o.lr > 0)) throw InputError("refine: iterations >= 0 and lr > 0");
+  return sum / n;
+}
+
+double image_mse(const Image& image, const Image& target) {
+  return image_loss(image, target, Loss::kL2, nullptr);
+}
+
+RefineResult refine(const Tree& input, const RefineTarget& target, const RefineOptions& o,
+                    const TessellationOptions& tessellation) {
+  if (target.cameras.empty() || target.cameras.size() != target.images.size()) {
+    throw InputError("refine: one target image per camera expected");
+  }
+  for (std::size_t v = 0; v < target.cameras.size(); ++v) {
+    const Image& img = target.images[v];
+    if (img.width != target.cameras[v].width || img.height != target.cameras[v].height ||
+        img.channels != 3) {
+      throw InputError(fmt::format("refine: target image {} is {}x{}, its camera's {}x{}", v,
+                                   img.width, img.height, target.cameras[v].width,
+                                   target.cameras[v].height));
+    }
+  }
+  if (o.iterations < 0) throw InputError("refine: iterations: must not be negative");
+  if (!(o.lr > 0)) throw InputError("refine: lr: must be > 0");
+  if (o.random_view_every < 0) throw InputError("refine: random views: must not be negative");
+  if (o.random_view_every > 0 && !target.render) {
+    throw InputError("refine: random views need a target that can be drawn (a model or a mesh)");
+  }
+  if (o.check_every < 1) throw InputError("refine: check interval: must be at least 1");
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
+  const auto start = Clock::now();
   RefineResult result;
   bool unified = false;
   for (const Node& n : input.nodes) {
@@ -137,56 +235,80 @@ RefineResult refine_to_images(const Tree& input, const std::vector<Camera>& came
   }
   result.tree = unified ? snap_operators(input) : input;
   Tree& tree = result.tree;
+  std::mt19937_64 rng(o.seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  const Camera& check = target.cameras[0];
+  const double view_distance =
+      std::sqrt(dot(sub(check.eye, check.target), sub(check.eye, check.target)));
+  Camera random_camera = check;
+  Image random_image;
+
   std::vector<double> params = tree.params.values(), m(params.size(), 0.0), v2(params.size(), 0.0);
-  for (int step = 0; step <= o.iterations; ++step) {
+  std::vector<double> previous = params;  // before the last step
+  const auto check_mse = [&](const PreparedScene& ps, const ViewPass* pass0) {
+    const double mse =
+        pass0 ? image_mse(pass0->image, target.images[0])
+              : image_mse(render_image(ps, check, target.shading, o.threads), target.images[0]);
+    result.check_mse.emplace_back(result.steps, mse);
+    return mse;
+  };
+  for (int step = 0;; ++step) {
     tree.params.set_values(params);
-    const Scene scene = scene_from_tree(tree, "refine", tessellation);
-    const Topology topology = opposite_vertices(scene);
-    auto t0 = Clock::now();
-    const std::vector<IntersectionEdge> edges =
-        o.intersection_aa ? intersection_edges(scene) : std::vector<IntersectionEdge>{};
-    result.seconds_edges += since(t0);
-    std::vector<double> grad(params.size(), 0.0);
+    PreparedScene ps =
+        prepare_scene(scene_from_tree(tree, "refine", tessellation), o.intersection_aa);
+    result.seconds_edges += ps.seconds_edges;
+    const bool random = o.random_view_every > 0;
+    if (random && step % o.random_view_every == 0) {
+      random_camera = random_view(check.target, view_distance, uniform(rng), uniform(rng),
+                                  check.width, check.height, check.fov_deg);
+      random_image = target.render(random_camera);
+    }
+    const std::size_t views = random ? 1 : target.cameras.size();
+    VertexGradient gv;
+    gv.resize(ps.scene);
     double loss = 0;
     int visible = 0;
-    for (std::size_t v = 0; v < cameras.size(); ++v) {
-      t0 = Clock::now();
-      const Frame f = render_visibility(scene, cameras[v], o.threads);
-      result.seconds_visibility += since(t0);
-      visible += f.visible_pixels();
-      const Image colour = colour_image(f);
-      std::vector<AaPair> pairs;
-      t0 = Clock::now();
-      const Image out = antialias(scene, topology, cameras[v], f, colour, &pairs,
-                                  o.intersection_aa ? &edges : nullptr);
-      result.seconds_antialias += since(t0);
-      t0 = Clock::now();
-      Image g_out = out;
-      const double norm = 1.0 / (static_cast<double>(out.data.size()) * cameras.size());
-      for (std::size_t k = 0; k < out.data.size(); ++k) {
-        const double d = out.data[k] - targets[v].data[k];
-        loss += d * d * norm;
-        g_out.data[k] = static_cast<float>(2 * d * norm);
-      }
-      Image g_colour;
-      std::vector<std::vector<Vec3>> gv;
-      antialias_backward(scene, cameras[v], colour, pairs, g_out, g_colour, gv,
-                         o.intersection_aa ? &edges : nullptr);
-      const std::vector<double> gp = parameter_gradient(tree, scene, gv, tessellation);
-      for (std::size_t k = 0; k < grad.size(); ++k) grad[k] += gp[k];
+    std::optional<ViewPass> pass0;
+    for (std::size_t v = 0; v < views; ++v) {
+      const Camera& cam = random ? random_camera : target.cameras[v];
+      const Image& goal = random ? random_image : target.images[v];
+      ViewPass pass = render_view(ps, cam, target.shading, o.threads);
+      result.seconds_visibility += pass.seconds_visibility;
+      result.seconds_antialias += pass.seconds_antialias;
+      visible += pass.frame.visible_pixels();
+      const auto t0 = Clock::now();
+      Image grad;
+      loss += image_loss(pass.image, goal, o.loss, &grad) / static_cast<double>(views);
+      for (float& g : grad.data) g /= static_cast<float>(views);
+      render_view_backward(ps, cam, target.shading, pass, grad, gv);
       result.seconds_backward += since(t0);
+      if (!random && v == 0) pass0 = std::move(pass);
+    }
+    if (visible == 0) {
+      if (step == 0) {
+        throw InputError("refine: no view sees the model (the cameras see nothing of it)");
+      }
+      result.vanished = true;
+      params = previous;
+      break;
     }
     result.loss.push_back(loss);
-    if (visible == 0) {
-      result.vanished = true;
-      break;
+    const bool last = step == o.iterations;
+    // The check view's error is free when view 0 is trained on; otherwise it costs a render,
+    // every check_every steps.
+    if (!random || step % o.check_every == 0 || last) {
+      if (check_mse(ps, pass0 ? &*pass0 : nullptr) < o.stop_mse) {
+        result.converged = true;
+        break;
+      }
     }
-    if (loss < o.stop_loss) {
-      result.converged = true;
-      break;
-    }
-    if (step == o.iterations) break;
+    if (o.progress && !o.progress(step, loss)) break;
+    if (last) break;
+    auto t0 = Clock::now();
+    const std::vector<double> grad = parameter_gradient(tree, ps.scene, gv.g);
+    result.seconds_backward += since(t0);
     ++result.steps;
+    previous = params;
     const double c1 = 1 - std::pow(o.beta1, result.steps), c2 = 1 - std::pow(o.beta2, result.steps);
     for (std::size_t k = 0; k < params.size(); ++k) {
       const Parameter& p = tree.params.at(k);
@@ -194,7 +316,7 @@ RefineResult refine_to_images(const Tree& input, const std::vector<Camera>& came
       m[k] = o.beta1 * m[k] + (1 - o.beta1) * grad[k];
       v2[k] = o.beta2 * v2[k] + (1 - o.beta2) * grad[k] * grad[k];
       params[k] -= o.lr * (m[k] / c1) / (std::sqrt(v2[k] / c2) + o.eps);
-      // Sizes and radii stay positive (their ranges say so).
+      // Sizes and radii stay in their ranges (a radius above 0).
       if (params[k] < p.range.lo || (p.range.lo_open && params[k] <= p.range.lo)) {
         params[k] = p.range.lo + 1e-6;
       }
@@ -202,6 +324,19 @@ RefineResult refine_to_images(const Tree& input, const std::vector<Camera>& came
     }
   }
   tree.params.set_values(params);
+  // Which primitives the fixed views still show.
+  const Scene final_scene = scene_from_tree(tree, "refine", tessellation);
+  std::set<int> seen;
+  for (const Camera& cam : target.cameras) {
+    const Frame f = render_visibility(final_scene, cam, o.threads);
+    for (const int p : f.primitive) {
+      if (p >= 0) seen.insert(p);
+    }
+  }
+  for (std::size_t p = 0; p < final_scene.primitives.size(); ++p) {
+    if (!seen.count(static_cast<int>(p))) result.unseen_primitives.push_back(final_scene.tree_node[p]);
+  }
+  result.seconds = since(start);
   return result;
 }
 

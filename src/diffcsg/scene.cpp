@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -29,7 +30,7 @@ TriMesh unit_box() {
   for (int k = 0; k < 8; ++k) {
     m.vertices.push_back({(k & 1) ? 0.5 : -0.5, (k & 2) ? 0.5 : -0.5, (k & 4) ? 0.5 : -0.5});
   }
-  // Two triangles per face, counter-clockwise seen from outside.
+  // Two triangles per face, counter-clockwise seen from outside. Flat shading.
   m.triangles = {{0, 2, 3}, {0, 3, 1},   // z = -1/2
                  {4, 5, 7}, {4, 7, 6},   // z = +1/2
                  {0, 1, 5}, {0, 5, 4},   // y = -1/2
@@ -75,6 +76,7 @@ TriMesh unit_sphere(int subdivisions) {
     }
     m.triangles = std::move(next);
   }
+  m.smoothing.assign(m.triangles.size(), 0);
   return m;
 }
 
@@ -96,12 +98,40 @@ TriMesh unit_cylinder(int segments) {
     m.triangles.push_back({k, n + k1, n + k});
     m.triangles.push_back({bottom, k1, k});
     m.triangles.push_back({top, n + k, n + k1});
+    m.smoothing.insert(m.smoothing.end(), {0, 0, -1, -1});  // smooth sides, flat caps
   }
   return m;
 }
 
+TriMesh openscad_sphere(int fragments) {
+  TriMesh mesh;
+  const int rings = (fragments + 1) / 2;
+  for (int i = 0; i < rings; ++i) {
+    const double phi = std::numbers::pi * (i + 0.5) / rings;
+    const double radius = std::sin(phi), z = std::cos(phi);
+    for (int j = 0; j < fragments; ++j) {
+      const double a = 2 * std::numbers::pi * j / fragments;
+      mesh.vertices.push_back({radius * std::cos(a), radius * std::sin(a), z});
+    }
+  }
+  const auto at = [&](int ring, int j) { return ring * fragments + (j % fragments); };
+  for (int j = 1; j + 1 < fragments; ++j) {  // top cap (ring 0, z > 0), seen from above
+    mesh.triangles.push_back({at(0, 0), at(0, j), at(0, j + 1)});
+  }
+  for (int i = 0; i + 1 < rings; ++i) {
+    for (int j = 0; j < fragments; ++j) {
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  for (int j = 1; j + 1 < fragments; ++j) {  // bottom cap
+    mesh.triangles.push_back({at(rings - 1, 0), at(rings - 1, j + 1), at(rings - 1, j)});
+  }
+  mesh.smoothing.assign(mesh.triangles.size(), 0);
+  return mesh;
+}
+
 bool Scene::solid(const std::vector<std::uint8_t>& inside) const {
-  // Post-order without recursion is not needed: trees are shallow.
   const auto eval = [&](const auto& self, int i) -> bool {
     const CsgNode& n = nodes[static_cast<std::size_t>(i)];
     switch (n.kind) {
@@ -131,6 +161,95 @@ std::size_t Scene::triangle_count() const {
   return n;
 }
 
+std::array<Vec3, 2> Scene::bounds() const {
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (const TriMesh& m : primitives) {
+    for (const Vec3& v : m.vertices) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], v[k]);
+        hi[k] = std::max(hi[k], v[k]);
+      }
+    }
+  }
+  if (!(lo[0] <= hi[0])) throw InputError("the scene has no vertices");
+  return {lo, hi};
+}
+
+namespace {
+
+// A unit mesh with, per vertex, how its local position follows the leaf's fields.
+struct LeafMesh {
+  TriMesh mesh;
+  std::vector<std::vector<LocalTerm>> terms;  // per vertex
+};
+
+// Terms l = (u_x a, u_y b, u_z c) for the vertices of a unit mesh u.
+LeafMesh scaled(const TriMesh& unit, ParamRef a, ParamRef b, ParamRef c) {
+  LeafMesh out{unit, {}};
+  for (const Vec3& u : unit.vertices) {
+    out.terms.push_back({{a, {u[0], 0, 0}}, {b, {0, u[1], 0}}, {c, {0, 0, u[2]}}});
+  }
+  return out;
+}
+
+// A cone (or cylinder) of `segments` sides: bottom ring on radius r1 at z = -h/2, top on r2 at
+// +h/2; a ring whose radius is an apex (`apex1`, `apex2`) is one vertex.
+LeafMesh cone_mesh(int segments, ParamRef r1, ParamRef r2, ParamRef h, bool apex1, bool apex2) {
+  LeafMesh out;
+  TriMesh& m = out.mesh;
+  const int n = segments;
+  const auto ring = [&](ParamRef r, double z, bool apex) {
+    const int base = static_cast<int>(m.vertices.size());
+    if (apex) {
+      m.vertices.push_back({0, 0, z});
+      out.terms.push_back({{h, {0, 0, z}}});
+      return base;
+    }
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * std::numbers::pi * k / n;
+      const double c = std::cos(a), s = std::sin(a);
+      m.vertices.push_back({c, s, z});
+      out.terms.push_back({{r, {c, s, 0}}, {h, {0, 0, z}}});
+    }
+    return base;
+  };
+  const int b = ring(r1, -0.5, apex1), t = ring(r2, 0.5, apex2);
+  int bc = -1, tc = -1;  // cap centres
+  if (!apex1) {
+    bc = static_cast<int>(m.vertices.size());
+    m.vertices.push_back({0, 0, -0.5});
+    out.terms.push_back({{h, {0, 0, -0.5}}});
+  }
+  if (!apex2) {
+    tc = static_cast<int>(m.vertices.size());
+    m.vertices.push_back({0, 0, 0.5});
+    out.terms.push_back({{h, {0, 0, 0.5}}});
+  }
+  const auto vb = [&](int k) { return apex1 ? b : b + k % n; };
+  const auto vt = [&](int k) { return apex2 ? t : t + k % n; };
+  for (int k = 0; k < n; ++k) {
+    if (!apex1) {
+      m.triangles.push_back({vb(k), vb(k + 1), vt(k + 1)});
+      m.smoothing.push_back(0);
+    }
+    if (!apex2) {
+      m.triangles.push_back({vb(k), vt(k + 1), vt(k)});
+      m.smoothing.push_back(0);
+    }
+    if (!apex1) {
+      m.triangles.push_back({bc, vb(k + 1), vb(k)});
+      m.smoothing.push_back(-1);
+    }
+    if (!apex2) {
+      m.triangles.push_back({tc, vt(k), vt(k + 1)});
+      m.smoothing.push_back(-1);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Scene scene_from_tree(const Tree& input, const std::string& source,
                       const TessellationOptions& options) {
   if (input.dim != 3) throw InputError(fmt::format("{}: the model must be a 3D tree", source));
@@ -140,6 +259,11 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
   if (options.cylinder_segments < 3 || options.cylinder_segments > 4096) {
     throw InputError("cylinder segments: must be in [3, 4096]");
   }
+  for (const auto& [node, fragments] : options.openscad_fragments) {
+    if (fragments < 3 || fragments > 4096) {
+      throw InputError(fmt::format("{}: fragments of node {}: must be in [3, 4096]", source, node));
+    }
+  }
   bool unified = false;
   for (const Node& n : input.nodes) {
     unified = unified || (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified);
@@ -148,59 +272,75 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
   const std::vector<std::string> paths = node_paths(tree);
   const auto value = [&](ParamRef r) { return tree.params[r].value; };
   Scene scene;
-  const TriMesh box = unit_box(), sphere = unit_sphere(options.sphere_subdivisions),
-                cylinder = unit_cylinder(options.cylinder_segments);
+  const TriMesh box = unit_box(), sphere = unit_sphere(options.sphere_subdivisions);
   const auto build = [&](const auto& self, int i) -> int {
     const Node& n = tree.node(i);
     const std::string& where = paths[static_cast<std::size_t>(i)];
     CsgNode out;
     if (n.kind == NodeKind::kPrimitive) {
-      Vec3 size{1, 1, 1};
-      const TriMesh* unit = nullptr;
+      const auto fragments = options.openscad_fragments.find(i);
+      const bool openscad = fragments != options.openscad_fragments.end();
+      const std::vector<ParamRef>& th = n.intrinsic;
+      LeafMesh leaf;
       switch (n.shape.type) {
         case PrimitiveType::kBox:
-          unit = &box;
-          size = {value(n.intrinsic.at(0)), value(n.intrinsic.at(1)), value(n.intrinsic.at(2))};
+          leaf = scaled(box, th.at(0), th.at(1), th.at(2));
           break;
-        case PrimitiveType::kSphere: {
-          unit = &sphere;
-          const double r = value(n.intrinsic.at(0));
-          size = {r, r, r};
+        case PrimitiveType::kSphere:
+          leaf = scaled(openscad ? openscad_sphere(fragments->second) : sphere, th.at(0), th.at(0),
+                        th.at(0));
           break;
-        }
-        case PrimitiveType::kCylinder: {
-          unit = &cylinder;
-          const double r = value(n.intrinsic.at(0));
-          size = {r, r, value(n.intrinsic.at(1))};
+        case PrimitiveType::kEllipsoid:
+          leaf = scaled(openscad ? openscad_sphere(fragments->second) : sphere, th.at(0), th.at(1),
+                        th.at(2));
           break;
-        }
+        case PrimitiveType::kCylinder:
+          leaf = cone_mesh(openscad ? fragments->second : options.cylinder_segments, th.at(0),
+                           th.at(0), th.at(1), false, false);
+          break;
+        case PrimitiveType::kCone:
+          leaf = cone_mesh(openscad ? fragments->second : options.cylinder_segments, th.at(0),
+                           th.at(1), th.at(2), value(th.at(0)) == 0, value(th.at(1)) == 0);
+          break;
         default:
           throw InputError(
-              fmt::format("{}: {}: primitive type not supported by the mesh renderer (box, sphere, "
-                          "cylinder)",
-                          source, where));
+              fmt::format("{}: {}: primitive type \"{}\" not supported by the mesh renderer (box, "
+                          "sphere, ellipsoid, cylinder, cone)",
+                          source, where, primitive_info(n.shape.type).name));
       }
+      PrimitiveBinding bind;
+      bind.translate = n.placement.translate;
+      bind.rotate = n.placement.rotate;
+      bind.scale = n.placement.scale;
+      if (bind.rotate.size() == 3) {
+        bind.rotation =
+            placement::rotation_3d(value(bind.rotate[0]), value(bind.rotate[1]), value(bind.rotate[2]));
+      }
+      bind.scale_value = bind.scale ? value(*bind.scale) : 1.0;
       Vec3 t{0, 0, 0};
-      for (std::size_t k = 0; k < n.placement.translate.size() && k < 3; ++k) {
-        t[k] = value(n.placement.translate[k]);
-      }
-      std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
-      if (n.placement.rotate.size() == 3) {
-        r = placement::rotation_3d(value(n.placement.rotate[0]), value(n.placement.rotate[1]),
-                                   value(n.placement.rotate[2]));
-      }
-      const double s = n.placement.scale ? value(*n.placement.scale) : 1.0;
-      TriMesh m = *unit;
-      for (Vec3& v : m.vertices) {
-        const Vec3 l{v[0] * size[0] * s, v[1] * size[1] * s, v[2] * size[2] * s};
-        v = {t[0] + r[0] * l[0] + r[1] * l[1] + r[2] * l[2],
-             t[1] + r[3] * l[0] + r[4] * l[1] + r[5] * l[2],
-             t[2] + r[6] * l[0] + r[7] * l[1] + r[8] * l[2]};
+      for (std::size_t k = 0; k < bind.translate.size() && k < 3; ++k) t[k] = value(bind.translate[k]);
+      TriMesh m = std::move(leaf.mesh);
+      const std::array<double, 9>& r = bind.rotation;
+      const double s = bind.scale_value;
+      bind.offsets.push_back(0);
+      for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+        Vec3 l{0, 0, 0};
+        for (const LocalTerm& term : leaf.terms[v]) {
+          const double x = value(term.param);
+          for (std::size_t k = 0; k < 3; ++k) l[k] += term.coefficient[k] * x;
+          bind.terms.push_back(term);
+        }
+        bind.offsets.push_back(static_cast<std::uint32_t>(bind.terms.size()));
+        bind.local.push_back(l);
+        m.vertices[v] = {t[0] + s * (r[0] * l[0] + r[1] * l[1] + r[2] * l[2]),
+                         t[1] + s * (r[3] * l[0] + r[4] * l[1] + r[5] * l[2]),
+                         t[2] + s * (r[6] * l[0] + r[7] * l[1] + r[8] * l[2])};
       }
       out.kind = CsgNode::Kind::kPrimitive;
       out.primitive = static_cast<int>(scene.primitives.size());
       scene.primitives.push_back(std::move(m));
       scene.tree_node.push_back(i);
+      scene.bindings.push_back(std::move(bind));
     } else {
       switch (n.op) {
         case OpKind::kUnion:
@@ -224,6 +364,61 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
     return static_cast<int>(scene.nodes.size()) - 1;
   };
   scene.root = build(build, tree.root);
+  return scene;
+}
+
+Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
+  // Smoothing groups: triangles joined across edges whose faces turn by less than the crease
+  // angle, by flood fill.
+  const std::size_t nt = mesh.triangles.size();
+  std::map<std::pair<int, int>, std::vector<int>> edges;
+  std::vector<Vec3> normal(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    Vec3 n = cross(sub(mesh.vertices[static_cast<std::size_t>(tri[1])],
+                       mesh.vertices[static_cast<std::size_t>(tri[0])]),
+                   sub(mesh.vertices[static_cast<std::size_t>(tri[2])],
+                       mesh.vertices[static_cast<std::size_t>(tri[0])]));
+    const double len = std::sqrt(dot(n, n));
+    if (len > 0) n = {n[0] / len, n[1] / len, n[2] / len};
+    normal[t] = n;
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
+      edges[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+    }
+  }
+  const double cos_crease = std::cos(crease_degrees * std::numbers::pi / 180);
+  mesh.smoothing.assign(nt, -2);
+  int groups = 0;
+  std::vector<int> stack;
+  for (std::size_t seed = 0; seed < nt; ++seed) {
+    if (mesh.smoothing[seed] != -2) continue;
+    mesh.smoothing[seed] = groups;
+    stack.assign(1, static_cast<int>(seed));
+    while (!stack.empty()) {
+      const int t = stack.back();
+      stack.pop_back();
+      const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
+      for (int k = 0; k < 3; ++k) {
+        const int a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
+        for (const int u : edges[{std::min(a, b), std::max(a, b)}]) {
+          if (mesh.smoothing[static_cast<std::size_t>(u)] != -2) continue;
+          if (dot(normal[static_cast<std::size_t>(t)], normal[static_cast<std::size_t>(u)]) <
+              cos_crease) {
+            continue;
+          }
+          mesh.smoothing[static_cast<std::size_t>(u)] = groups;
+          stack.push_back(u);
+        }
+      }
+    }
+    ++groups;
+  }
+  Scene scene;
+  scene.primitives.push_back(std::move(mesh));
+  scene.tree_node.push_back(-1);
+  scene.nodes.push_back({CsgNode::Kind::kPrimitive, 0, {}});
+  scene.root = 0;
   return scene;
 }
 

@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/mesh_file.hpp"
 #include "target_detail.hpp"
 
 namespace fuzzycsg::target_detail {
@@ -483,3 +484,14 @@ std::unique_ptr<Target> load_mesh(const std::filesystem::path& path, const std::
 }
 
 }  // namespace fuzzycsg::target_detail
+
+namespace fuzzycsg {
+
+MeshData read_mesh_file(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  target_detail::TriangleMesh mesh = target_detail::read_mesh(path, name);
+  target_detail::compact(mesh, name);
+  return {std::move(mesh.vertices), std::move(mesh.triangles)};
+}
+
+}  // namespace fuzzycsg

@@ -93,8 +93,9 @@ TEST(DiffcsgRefine, RecoversAMovedAndStretchedBoxFromThreeViews) {
   RefineOptions o;
   o.iterations = 150;
   o.lr = 0.005;
-  o.stop_loss = 0;
-  const RefineResult r = refine_to_images(start, cams, targets, o);
+  o.stop_mse = 0;
+  const RefineResult r =
+      refine(start, RefineTarget{cams, targets, Shading::kColours, nullptr}, o);
   ASSERT_FALSE(r.vanished);
   ASSERT_GE(r.loss.size(), 2u);
   const auto error = [&](const Tree& t) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fuzzycsg/diffcsg/edges.hpp"
+#include "fuzzycsg/diffcsg/image.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 
 namespace fuzzycsg::diffcsg {
@@ -33,16 +34,6 @@ struct Projection {
   std::array<double, 6> jacobian{};  // row-major 2 x 3
 };
 Projection project(const Camera& camera, const Vec3& p);
-
-// An image of `channels` floats per pixel, row-major, row 0 at the top.
-struct Image {
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> data;
-  float* at(std::size_t pixel) { return data.data() + pixel * static_cast<std::size_t>(channels); }
-  const float* at(std::size_t pixel) const {
-    return data.data() + pixel * static_cast<std::size_t>(channels);
-  }
-};
 
 // One blended pair, kept for the backward pass.
 struct AaPair {
@@ -68,6 +59,10 @@ Image antialias(const Scene& scene, const Topology& topology, const Camera& came
 // coordinates, [primitive][vertex]) through α's dependence on the edges' endpoints; for an
 // intersection edge, through its endpoints' dependence on the six vertices of its two
 // triangles. `edges` as given to antialias().
+void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
+                        const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
+                        VertexGradient& grad_vertices,
+                        const std::vector<IntersectionEdge>* edges = nullptr);
 void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
                         const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
                         std::vector<std::vector<Vec3>>& grad_vertices,

@@ -24,6 +24,20 @@ Scene read_openscad_csg(const std::filesystem::path& path);
 // `source` names the text in messages.
 Scene parse_openscad_csg(std::string_view text, const std::string& source);
 
+// The model as a tree file, for refinement: each primitive's accumulated multmatrix becomes the
+// leaf's translate and rotate (Euler angles), its scales folded into the primitive's fields (a
+// sphere scaled unevenly becomes an ellipsoid, a cylinder with r1 != r2 a cone, an uncentred
+// primitive is moved by half its size); a shearing matrix, or one that scales a cylinder
+// differently across its axis, is refused naming the line. A difference of several children
+// becomes the first less the union of the others. Leaves are crisp and named "<node> line <n>";
+// the tessellation keeps OpenSCAD's fragments for every sphere and cylinder.
+struct OpenscadModel {
+  Tree tree;
+  TessellationOptions tessellation;
+};
+OpenscadModel read_openscad_csg_tree(const std::filesystem::path& path);
+OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source);
+
 // OpenSCAD's get_fragments_from_r.
 int openscad_fragments(double r, double fn, double fs, double fa);
 

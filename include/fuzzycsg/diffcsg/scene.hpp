@@ -4,18 +4,37 @@
 // scale, and the tree's operators become crisp booleans over those solids.
 //
 // Tessellations (local coordinates, outward normals by the right-hand rule):
-//   box       [-1/2, 1/2]^3 scaled by `size`: 12 triangles;
-//   sphere    an icosahedron subdivided `sphere_subdivisions` times (default 2: 320
-//             triangles), vertices on the sphere of radius `radius`;
-//   cylinder  axis z, z in [-height/2, height/2], `cylinder_segments` (default 16) sides, the
-//             rings' vertices on the circle of `radius`: 4 * segments triangles.
+//   box        [-1/2, 1/2]^3 scaled by `size`: 12 triangles;
+//   sphere     an icosahedron subdivided `sphere_subdivisions` times (default 2: 320
+//              triangles), vertices on the sphere of radius `radius`;
+//   ellipsoid  the sphere's mesh scaled by `radii`;
+//   cylinder   axis z, z in [-height/2, height/2], `cylinder_segments` (default 16) sides, the
+//              rings' vertices on the circle of `radius`: 4 * segments triangles;
+//   cone       the cylinder's mesh with the bottom ring on the circle of `radius1` and the top
+//              ring on that of `radius2` (DiffCSG's tapered cylinder); a radius that is 0 when
+//              the scene is built is an apex (one vertex) instead of a ring;
+//   extrude    the profile's polygon (core/bezier.hpp, kBezierSamples points per Bézier
+//              segment) as two rings at z = -height/2 and +height/2, the walls between them and
+//              the caps triangulated by ear clipping.
 // The meshes are inscribed in the analytic shapes (a sphere's mesh lies inside its sphere).
+//
+// Every vertex is a function of the tree's parameters, v = t + s R l: t, R, s the leaf's
+// placement and the local position l linear in the leaf's own fields (a box corner is
+// (±size_x, ±size_y, ±size_z) / 2, a profile sample a Bernstein combination of control points).
+// Scene::bindings records these maps, so that gradients with respect to vertices become
+// gradients with respect to parameters (refine.hpp) without tessellating again.
+//
+// Leaves read from an OpenSCAD model (openscad_csg.hpp) keep OpenSCAD's tessellation: spheres as
+// its rings of latitude, cylinders and cones as its polygons, with its number of fragments
+// (TessellationOptions::openscad_fragments).
 //
 // Operators: union and intersection (two or more children), difference (exactly two), each of
 // any logic family or unified (snapped to its largest weight), read as the crisp boolean.
 
 #include <array>
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,18 +53,29 @@ inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[
 struct TriMesh {
   std::vector<Vec3> vertices;
   std::vector<std::array<int, 3>> triangles;
+  // Shading: per triangle, a smoothing group (>= 0: normals are averaged over the triangles of
+  // the group around each vertex) or -1 (flat: the face's own normal). Empty: all flat.
+  std::vector<int> smoothing;
 };
 
 // Six times the signed volume enclosed (positive for outward normals).
 double signed_volume6(const TriMesh& m);
 
+// Unit meshes (sizes 1; the sphere of radius 1, the cylinder of radius 1 and height 1), with
+// their smoothing groups.
 TriMesh unit_box();
 TriMesh unit_sphere(int subdivisions);
 TriMesh unit_cylinder(int segments);
+// OpenSCAD 2021.01's sphere of radius 1 with `fragments` fragments: (fragments + 1) / 2 rings
+// of latitude, capped by polygons.
+TriMesh openscad_sphere(int fragments);
 
 struct TessellationOptions {
   int sphere_subdivisions = 2;
   int cylinder_segments = 16;
+  // Leaves (tree node index) tessellated as OpenSCAD does, with this many fragments: spheres
+  // and ellipsoids as openscad_sphere(), cylinders and cones with that many sides.
+  std::map<int, int> openscad_fragments;
 };
 
 // The CSG expression over the primitives: node 0.. with children; leaves name a primitive.
@@ -55,21 +85,45 @@ struct CsgNode {
   std::vector<int> children;  // operators
 };
 
+// How a primitive's vertices follow the tree's parameters: v = t + s R l with
+// l = sum over the vertex's terms of coefficient * value(param).
+struct LocalTerm {
+  ParamRef param;
+  Vec3 coefficient;
+};
+struct PrimitiveBinding {
+  std::vector<std::uint32_t> offsets;  // vertex v's terms: [offsets[v], offsets[v + 1])
+  std::vector<LocalTerm> terms;
+  std::vector<Vec3> local;  // l of each vertex (at the parameters the scene was built with)
+  std::vector<ParamRef> translate, rotate;
+  std::optional<ParamRef> scale;
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // R, row-major
+  double scale_value = 1;
+};
+
 struct Scene {
   std::vector<TriMesh> primitives;  // world coordinates
   std::vector<int> tree_node;       // the Tree node of each primitive
   std::vector<CsgNode> nodes;
   int root = -1;
+  // One per primitive when the scene was built from a tree (scene_from_tree), else empty.
+  std::vector<PrimitiveBinding> bindings;
 
   // Whether a point inside exactly the primitives p with inside[p] != 0 is inside the solid.
   bool solid(const std::vector<std::uint8_t>& inside) const;
   std::size_t triangle_count() const;
+  // The bounding box of every primitive's vertices (lo, hi); throws if there are none.
+  std::array<Vec3, 2> bounds() const;
 };
 
 // Throws InputError naming `source` and the node path for a tree that is not 3D, a leaf that
-// is not a box, sphere or cylinder, or an operator that is not union, intersection, difference
-// or unified.
+// is not a box, sphere, ellipsoid, cylinder, cone or extrude, an extrude whose profile cannot
+// be triangulated, or an operator that is not union, intersection, difference or unified.
 Scene scene_from_tree(const Tree& tree, const std::string& source,
                       const TessellationOptions& options = {});
+
+// A closed mesh as a scene of one primitive (a target to render). Normals are averaged across
+// edges whose faces meet at less than `crease_degrees`; sharper edges stay sharp.
+Scene scene_from_mesh(TriMesh mesh, double crease_degrees = 30);
 
 }  // namespace fuzzycsg::diffcsg
