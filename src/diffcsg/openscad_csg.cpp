@@ -221,6 +221,11 @@ class Parser {
     } else if (peek() == '{') {
       ++i_;
       st.children = statements(true);
+    } else if (std::isalpha(static_cast<unsigned char>(peek())) || peek() == '#' || peek() == '!' ||
+               peek() == '%' || peek() == '*') {
+      // One child without braces: multmatrix(m) cube(1);
+      Statement child = statement();
+      if (!child.excluded) st.children.push_back(std::move(child));
     } else {
       fail(fmt::format("{}: expected ';' or '{{'", st.name));
     }
@@ -250,8 +255,8 @@ Matrix multiply(const Matrix& a, const Matrix& b) {
 // A primitive statement's arguments, checked.
 struct Primitive {
   enum class Kind { kCube, kSphere, kCylinder } kind = Kind::kCube;
-  Vec3 size{1, 1, 1};  // cube
-  double r = 1;        // sphere
+  Vec3 size{1, 1, 1};            // cube
+  double r = 1;                  // sphere
   double h = 1, r1 = 1, r2 = 1;  // cylinder
   bool center = false;
   int fragments = 3;  // sphere, cylinder
@@ -523,7 +528,8 @@ class TreeBuilder {
     Vec3 offset{0, 0, 0};
     nlohmann::ordered_json leaf;
     std::string name = fmt::format("{} line {}", st.name, st.line);
-    for (int k = 2; names_.count(name); ++k) name = fmt::format("{} line {} #{}", st.name, st.line, k);
+    for (int k = 2; names_.count(name); ++k)
+      name = fmt::format("{} line {} #{}", st.name, st.line, k);
     names_.insert(name);
     leaf["name"] = name;
     std::array<double, 9> a{m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
@@ -540,8 +546,9 @@ class TreeBuilder {
       for (std::size_t d = c + 1; d < 3; ++d) {
         const double cosine = r[c] * r[d] + r[3 + c] * r[3 + d] + r[6 + c] * r[6 + d];
         if (std::abs(cosine) > 1e-6) {
-          read_.fail(st, "its placement shears it, which a tree's translate, rotate and size "
-                         "cannot express");
+          read_.fail(st,
+                     "its placement shears it, which a tree's translate, rotate and size "
+                     "cannot express");
         }
       }
     }
@@ -571,8 +578,9 @@ class TreeBuilder {
       case Primitive::Kind::kCylinder:
         if (!p.center) offset = {0, 0, p.h / 2};
         if (!same(scale[0], scale[1])) {
-          read_.fail(st, "a scale that differs across its axis makes an elliptic cylinder, which "
-                         "no tree family is");
+          read_.fail(st,
+                     "a scale that differs across its axis makes an elliptic cylinder, which "
+                     "no tree family is");
         }
         if (p.r1 == p.r2) {
           leaf["type"] = "cylinder";

@@ -400,7 +400,7 @@ cat >"$tmp/torus.json" <<'JSON'
  "root": {"op": "union", "children": [{"type": "sphere", "radius": 0.5},
    {"type": "torus", "major": 0.5, "minor": 0.1}]}}
 JSON
-expect_error "torus.json: root.children\[1\]: primitive type not supported" \
+expect_error "torus.json: root.children\[1\]: primitive type .torus. not supported" \
   "$bin" raster "$tmp/torus.json" -o "$tmp/r2.png"
 expect_error "--camera" "$bin" raster "$tmp/sphere.json" -o "$tmp/r5.png" --camera 0,0
 expect_error "3D" "$bin" raster "$src/examples/cart_2d.json" -o "$tmp/r3.png"
@@ -432,9 +432,58 @@ cat >"$tmp/goal3.json" <<'JSON'
 {"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "box", "size": [1, 1, 1]}}
 JSON
 expect_error "goal3.json: 1 primitives, the model 2" "$bin" refine "$tmp/prog.json" \
-  --target "$tmp/goal3.json" -o "$tmp/ref4"
+  --target "$tmp/goal3.json" -o "$tmp/ref4" --shading colours
 expect_error "--views" "$bin" refine "$tmp/prog.json" --target "$tmp/goal.json" -o "$tmp/ref5" --views 0
 if [[ ! -e "$tmp/ref4" && ! -e "$tmp/ref5" ]]; then ok; else bad "refine error left a directory"; fi
+# An image as the target: a picture of the goal and its camera (raster --save-views).
+if "$bin" raster "$tmp/goal.json" -o "$tmp/goal.png" --size 48 --camera 30,35,0 \
+  --save-views "$tmp/views.json" -q &&
+  "$bin" refine "$tmp/prog.json" --target "$tmp/views.json" -o "$tmp/ref6" --iters 30 --lr 0.005 -q &&
+  python3 - "$tmp/ref6" <<'PY'
+import json, os, sys
+r = json.load(open(os.path.join(sys.argv[1], "report.json")))
+assert r["target_kind"] == "views" and r["settings"]["size"] == [48, 48], r["settings"]
+assert r["loss"][-1] < r["loss"][0], r["loss"][:3]
+PY
+then ok; else bad "refine to a views file"; fi
+expect_error "views.json: view 0's image is 48x48, --size 64" "$bin" refine "$tmp/prog.json" \
+  --target "$tmp/views.json" -o "$tmp/ref7" --size 64
+expect_error "--random-views" "$bin" refine "$tmp/prog.json" --target "$tmp/views.json" \
+  -o "$tmp/ref8" --random-views 5
+# An OpenSCAD model refined against a mesh of itself moved: its .csg read as a tree.
+data="$src/../shared/data/scad/Old/example004"
+if [[ -f "$data.openscad.csg" ]]; then
+  sed "s/r = 20)/r = 22)/" "$data.openscad.csg" >"$tmp/ex4.csg"
+  if "$bin" refine "$tmp/ex4.csg" --target "$data.ref.off" -o "$tmp/ref9" --size 48 --views 4 \
+    --iters 60 --lr 0.05 -q && grep -q "sphere(" "$tmp/ref9/model.scad" &&
+    python3 - "$tmp/ref9" <<'PY'
+import json, os, sys
+r = json.load(open(os.path.join(sys.argv[1], "report.json")))
+assert r["target_kind"] == "mesh", r["target_kind"]
+radius = [p for p in r["parameters"] if p["name"].endswith("radius")][0]
+assert radius["after"] < radius["before"], radius  # towards the mesh's 20
+PY
+  then ok; else bad "refine a .csg model to a mesh"; fi
+else
+  bad "missing $data.openscad.csg"
+fi
+expect_error "colours: a mesh has no primitives" "$bin" refine "$tmp/prog.json" \
+  --target "$data.ref.off" -o "$tmp/ref10" --shading colours
+if [[ ! -e "$tmp/ref7" && ! -e "$tmp/ref8" && ! -e "$tmp/ref10" ]]; then ok; else bad "refine error left a directory"; fi
+# Gradient images: analytic and by differences, the same total.
+g1=$("$bin" raster "$tmp/prog.json" -o "$tmp/g1.png" --size 40 --gradient "root.children[1].radius" \
+  --target "$tmp/goal.json")
+g2=$("$bin" raster "$tmp/prog.json" -o "$tmp/g2.png" --size 40 --gradient "root.children[1].radius" \
+  --target "$tmp/goal.json" --finite-difference 1e-5)
+if python3 - "$g1" "$g2" <<'PY'
+import re, sys
+a, b = (float(re.search(r"total (\S+),", s).group(1)) for s in sys.argv[1:3])
+assert a != 0 and abs(a - b) <= 0.02 * abs(a), (a, b)
+PY
+then ok; else bad "gradient images: $g1 / $g2"; fi
+expect_error "has no parameter \"radius\"" "$bin" raster "$tmp/prog.json" -o "$tmp/g3.png" \
+  --gradient radius
+[[ -e "$tmp/g3.png" ]] && bad "raster --gradient error left a file" || ok
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -4,6 +4,8 @@
 // text are refused naming the line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -135,6 +137,88 @@ TEST(DiffcsgOpenscad, UnsupportedNodesAndBrokenTextAreRefusedNamingTheLine) {
   EXPECT_EQ(parse_openscad_csg("*sphere(1); #cube(1); !cylinder(h = 1, r = 1);", "m.csg")
                 .primitives.size(),
             2u);
+}
+
+// The same depth and primitive at every pixel but a few on edges.
+void expect_same_image(const Scene& a_scene, const Scene& b_scene, double azimuth,
+                       double elevation) {
+  const auto [lo, hi] = a_scene.bounds();
+  const Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+  const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  const Camera cam = Camera::orbit(centre, azimuth, elevation, 3 * size, 96, 96, 30);
+  const Frame a = render_visibility(a_scene, cam, 2), b = render_visibility(b_scene, cam, 2);
+  int covered = 0, differ = 0;
+  for (std::size_t p = 0; p < a.primitive.size(); ++p) {
+    covered += a.primitive[p] >= 0;
+    if ((a.primitive[p] >= 0) != (b.primitive[p] >= 0) ||
+        (a.primitive[p] >= 0 && std::abs(a.depth[p] - b.depth[p]) > 1e-4 * size)) {
+      ++differ;
+    }
+  }
+  ASSERT_GT(covered, 200);
+  EXPECT_LE(differ, covered / 200) << "azimuth " << azimuth;
+}
+
+TEST(DiffcsgOpenscad, ModelsReadAsTreesDrawTheSameAsTheirMeshes) {
+  for (const char* name :
+       {"Basics/CSG", "Basics/logo", "Old/example001", "Old/example003", "Old/example004"}) {
+    SCOPED_TRACE(name);
+    const std::filesystem::path path = kScad / (std::string(name) + ".openscad.csg");
+    const Scene direct = read_openscad_csg(path);
+    const OpenscadModel model = read_openscad_csg_tree(path);
+    const Scene tree = scene_from_tree(model.tree, path.string(), model.tessellation);
+    ASSERT_EQ(tree.primitives.size(), direct.primitives.size());
+    // Every sphere and cylinder keeps OpenSCAD's fragments: the same vertex count on rings.
+    for (std::size_t p = 0; p < tree.primitives.size(); ++p) {
+      EXPECT_NEAR(static_cast<double>(tree.primitives[p].vertices.size()),
+                  static_cast<double>(direct.primitives[p].vertices.size()), 2.0);
+    }
+    for (const double azimuth : {30.0, 200.0}) expect_same_image(direct, tree, azimuth, 30);
+  }
+}
+
+TEST(DiffcsgOpenscad, PlacementsBecomeTranslateRotateAndSizes) {
+  // Uncentred primitives, a mirror, a rotation about two axes, scales folded into sizes, a
+  // sphere scaled unevenly (an ellipsoid), a cone.
+  const std::string text = R"(
+multmatrix([[0.8660254, -0.5, 0, 1], [0.5, 0.8660254, 0, 2], [0, 0, 1, 3], [0, 0, 0, 1]]) {
+  cube(size = [1, 2, 3], center = false);
+  multmatrix([[2, 0, 0, 0], [0, 2, 0, 0], [0, 0, 2, 0.5], [0, 0, 0, 1]]) {
+    cylinder($fn = 12, h = 2, r1 = 1, r2 = 0.5, center = false);
+  }
+}
+multmatrix([[-1, 0, 0, 0], [0, 0.6, -0.8, 0], [0, 0.8, 0.6, 0], [0, 0, 0, 1]]) {
+  cube(size = [0.5, 1, 2], center = true);
+}
+multmatrix([[1, 0, 0, -2], [0, 2, 0, 0], [0, 0, 3, 0], [0, 0, 0, 1]]) sphere($fn = 10, r = 0.5);
+)";
+  const Scene direct = parse_openscad_csg(text, "m.csg");
+  const OpenscadModel model = parse_openscad_csg_tree(text, "m.csg");
+  const Scene tree = scene_from_tree(model.tree, "m.csg", model.tessellation);
+  ASSERT_EQ(tree.primitives.size(), 4u);
+  const Node& cone = model.tree.node(tree.tree_node[1]);
+  EXPECT_EQ(cone.shape.type, PrimitiveType::kCone);
+  EXPECT_EQ(cone.name, "cylinder line 5");
+  EXPECT_NEAR(model.tree.params[cone.intrinsic[2]].value, 4, 1e-12);  // height 2 scaled by 2
+  EXPECT_EQ(model.tree.node(tree.tree_node[3]).shape.type, PrimitiveType::kEllipsoid);
+  for (const double azimuth : {0.0, 70.0, 160.0, 250.0}) {
+    expect_same_image(direct, tree, azimuth, 25);
+    expect_same_image(direct, tree, azimuth, -40);
+  }
+  const auto refused = [](const std::string& t, const std::string& expect) {
+    try {
+      parse_openscad_csg_tree(t, "m.csg");
+      ADD_FAILURE() << "accepted " << t;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  };
+  refused("multmatrix([[1, 1, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]) cube(1);",
+          "m.csg: line 1: cube: its placement shears it");
+  refused(
+      "multmatrix([[1, 0, 0, 0], [0, 2, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])\n"
+      "  cylinder(h = 1, r = 1);",
+      "m.csg: line 2: cylinder: a scale that differs across its axis");
 }
 
 }  // namespace
