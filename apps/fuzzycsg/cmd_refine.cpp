@@ -37,11 +37,11 @@ namespace fuzzycsg::app {
 namespace {
 
 struct RefineArgs {
-  std::string model, target, out, shading = "normals", loss = "l2";
+  std::string model, target, out, shading = "normals", loss = "l2", method = "adam";
   int views = 4, size = 256, iters = 1000, threads = 0, random_views = 0;
   int sphere_subdivisions = 2, cylinder_segments = 16;
   long long seed = 1;
-  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30;
+  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30, cmaes_sigma = 0.1;
   bool no_intersection_aa = false, quiet = false, size_given = false;
 };
 
@@ -69,11 +69,17 @@ int run_refine(const RefineArgs& a) {
   if (!shading) throw InputError("--shading: normals or colours");
   const auto loss = diffcsg::loss_from_name(a.loss);
   if (!loss) throw InputError("--loss: l1, l2 or tanh");
+  if (a.method != "adam" && a.method != "cmaes") throw InputError("--method: adam or cmaes");
+  if (a.method == "cmaes" && a.random_views > 0) {
+    throw InputError("--random-views: not with --method cmaes (it needs one objective)");
+  }
+  if (!(a.cmaes_sigma > 0)) throw InputError("--cmaes-sigma: must be > 0");
   diffcsg::TessellationOptions tess;
   tess.sphere_subdivisions = a.sphere_subdivisions;
   tess.cylinder_segments = a.cylinder_segments;
   const diffcsg::OpenscadModel model = read_model(a.model, tess);
-  const diffcsg::Scene model_scene = diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
+  const diffcsg::Scene model_scene =
+      diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
 
   // The target: views, a mesh, or a model.
   diffcsg::RefineTarget target;
@@ -124,9 +130,9 @@ int run_refine(const RefineArgs& a) {
         diffcsg::prepare_scene(std::move(scene), !a.no_intersection_aa));
     const auto [lo, hi] = target_scene->scene.bounds();
     const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-    const double distance = a.distance > 0 ? a.distance
-                                           : diffcsg::framing_distance(target_scene->scene, centre,
-                                                                       a.fov, 1.2);
+    const double distance =
+        a.distance > 0 ? a.distance
+                       : diffcsg::framing_distance(target_scene->scene, centre, a.fov, 1.2);
     target.cameras =
         diffcsg::orbit_views(centre, distance, a.views, a.elevation, a.size, a.size, a.fov);
     const int threads = a.threads;
@@ -139,6 +145,8 @@ int run_refine(const RefineArgs& a) {
   prepare_output_dir(a.out);
 
   diffcsg::RefineOptions o;
+  o.method = a.method == "cmaes" ? diffcsg::Method::kCmaes : diffcsg::Method::kAdam;
+  o.cmaes_sigma = a.cmaes_sigma;
   o.iterations = a.iters;
   o.lr = a.lr;
   o.loss = *loss;
@@ -185,7 +193,8 @@ int run_refine(const RefineArgs& a) {
   report["model"] = a.model;
   report["target"] = a.target;
   report["target_kind"] = target_kind;
-  report["settings"] = {{"shading", diffcsg::shading_name(*shading)},
+  report["settings"] = {{"method", a.method},
+                        {"shading", diffcsg::shading_name(*shading)},
                         {"loss", diffcsg::loss_name(*loss)},
                         {"views", static_cast<int>(target.cameras.size())},
                         {"size", {check.width, check.height}},
@@ -263,9 +272,17 @@ Verb register_refine(CLI::App& app) {
   cmd->add_option("--shading", a->shading, "Images matched: normals or colours (per primitive)")
       ->capture_default_str();
   cmd->add_option("--loss", a->loss, "l1, l2 or tanh")->capture_default_str();
+  cmd->add_option("--method", a->method,
+                  "adam (gradients of the differentiable renderer) or cmaes (derivative-free; "
+                  "--iters counts renders of the views)")
+      ->capture_default_str();
+  cmd->add_option("--cmaes-sigma", a->cmaes_sigma,
+                  "CMA-ES's first steps, relative to each parameter's magnitude")
+      ->capture_default_str();
   cmd->add_option("--views", a->views, "Cameras around a model or mesh target")
       ->capture_default_str();
-  auto* size = cmd->add_option("--size", a->size, "Image size (pixels, square)")->capture_default_str();
+  auto* size =
+      cmd->add_option("--size", a->size, "Image size (pixels, square)")->capture_default_str();
   cmd->add_option("--iters", a->iters, "Adam steps at most")->capture_default_str();
   cmd->add_option("--lr", a->lr, "Learning rate")->capture_default_str();
   cmd->add_option("--stop", a->stop, "Stop when view 0's mean squared error falls below this")

@@ -204,8 +204,7 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
 
 void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,
                         const std::vector<AaPair>& pairs, const Image& grad_out, Image& grad_colour,
-                        VertexGradient& grad_vertices,
-                        const std::vector<IntersectionEdge>* edges) {
+                        VertexGradient& grad_vertices, const std::vector<IntersectionEdge>* edges) {
   const CameraFrame cf = camera_frame(camera);
   const int ch = colour.channels;
   if (grad_colour.data.size() != colour.data.size()) {

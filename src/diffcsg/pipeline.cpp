@@ -53,8 +53,7 @@ void render_view_backward(const PreparedScene& s, const Camera& camera, Shading 
                  grad_vertices);
 }
 
-Image render_image(const PreparedScene& scene, const Camera& camera, Shading shading,
-                   int threads) {
+Image render_image(const PreparedScene& scene, const Camera& camera, Shading shading, int threads) {
   return render_view(scene, camera, shading, threads).image;
 }
 
@@ -68,8 +67,8 @@ std::vector<Camera> orbit_views(const Vec3& centre, double distance, int n, doub
   return out;
 }
 
-Camera random_view(const Vec3& centre, double distance, double u1, double u2, int width,
-                   int height, double fov_deg) {
+Camera random_view(const Vec3& centre, double distance, double u1, double u2, int width, int height,
+                   double fov_deg) {
   const double theta = std::numbers::pi * u1, phi = 2 * std::numbers::pi * u2;
   Camera c;
   c.target = centre;

@@ -11,6 +11,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/placement.hpp"
 #include "fuzzycsg/fit/prune.hpp"
+#include "fuzzycsg/optim/cmaes.hpp"
 
 namespace fuzzycsg::diffcsg {
 
@@ -202,6 +203,122 @@ double image_mse(const Image& image, const Image& target) {
   return image_loss(image, target, Loss::kL2, nullptr);
 }
 
+namespace {
+
+// The primitives no fixed view shows.
+std::vector<int> unseen_primitives(const Tree& tree, const RefineTarget& target,
+                                   const TessellationOptions& tessellation, int threads) {
+  const Scene scene = scene_from_tree(tree, "refine", tessellation);
+  std::set<int> seen;
+  for (const Camera& cam : target.cameras) {
+    const Frame f = render_visibility(scene, cam, threads);
+    for (const int p : f.primitive) {
+      if (p >= 0) seen.insert(p);
+    }
+  }
+  std::vector<int> out;
+  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+    if (!seen.count(static_cast<int>(p))) out.push_back(scene.tree_node[p]);
+  }
+  return out;
+}
+
+// A parameter's value kept in its field's range (a radius above 0).
+double in_range(const Parameter& p, double x) {
+  if (x < p.range.lo || (p.range.lo_open && x <= p.range.lo)) x = p.range.lo + 1e-6;
+  return std::min(x, p.range.hi);
+}
+
+RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const RefineOptions& o,
+                          const TessellationOptions& tessellation) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  RefineResult result;
+  bool unified = false;
+  for (const Node& n : input.nodes) {
+    unified = unified || (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified);
+  }
+  result.tree = unified ? snap_operators(input) : input;
+  Tree& tree = result.tree;
+  const std::vector<double> initial = tree.params.values();
+  std::vector<std::size_t> free;
+  for (std::size_t k = 0; k < tree.params.size(); ++k) {
+    if (!tree.params.at(k).fixed) free.push_back(k);
+  }
+  if (free.empty()) throw InputError("refine: the model has no free parameters");
+  const auto [lo, hi] = scene_from_tree(tree, "refine", tessellation).bounds();
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-9});
+  std::vector<double> x0, scale;
+  for (const std::size_t k : free) {
+    const Parameter& p = tree.params.at(k);
+    x0.push_back(p.value);
+    scale.push_back(std::abs(p.value) > 0 ? o.cmaes_sigma * std::abs(p.value)
+                    : p.name.find(".rotate") != std::string::npos ? 10.0
+                                                                  : 0.05 * extent);
+  }
+  std::vector<double> params = initial;
+  const auto set = [&](std::span<const double> x) {
+    for (std::size_t i = 0; i < free.size(); ++i) {
+      params[free[i]] = in_range(tree.params.at(free[i]), x[i]);
+    }
+    tree.params.set_values(params);
+  };
+  int evaluations = 0;
+  const auto objective = [&](std::span<const double> x) {
+    ++evaluations;
+    set(x);
+    const PreparedScene ps =
+        prepare_scene(scene_from_tree(tree, "refine", tessellation), o.intersection_aa);
+    result.seconds_edges += ps.seconds_edges;
+    double loss = 0;
+    int visible = 0;
+    for (std::size_t v = 0; v < target.cameras.size(); ++v) {
+      const ViewPass pass = render_view(ps, target.cameras[v], target.shading, o.threads);
+      result.seconds_visibility += pass.seconds_visibility;
+      result.seconds_antialias += pass.seconds_antialias;
+      visible += pass.frame.visible_pixels();
+      loss += image_loss(pass.image, target.images[v], o.loss) /
+              static_cast<double>(target.cameras.size());
+    }
+    // A model that leaves every view is as bad as it gets.
+    return visible == 0 ? HUGE_VAL : loss;
+  };
+  optim::CmaesOptions co;
+  co.sigma = 1;  // the scales carry cmaes_sigma
+  co.seed = o.seed;
+  co.max_evaluations = std::max(o.iterations, 1);
+  const optim::CmaesResult r =
+      optim::cmaes_minimize(objective, x0, scale, co, [&](std::span<const double> x, double best) {
+        // The check view's error of the best point so far.
+        set(x);
+        const double mse = image_mse(
+            render_image(
+                prepare_scene(scene_from_tree(tree, "refine", tessellation), o.intersection_aa),
+                target.cameras[0], target.shading, o.threads),
+            target.images[0]);
+        result.loss.push_back(best);
+        result.check_mse.emplace_back(evaluations, mse);
+        if (mse < o.stop_mse) {
+          result.converged = true;
+          return false;
+        }
+        return !o.progress || o.progress(static_cast<int>(result.loss.size()), best);
+      });
+  params = initial;
+  for (std::size_t i = 0; i < free.size(); ++i) {
+    params[free[i]] = in_range(tree.params.at(free[i]), r.best[i]);
+  }
+  tree.params.set_values(params);
+  result.steps = static_cast<int>(r.evaluations);
+  if (result.loss.empty()) result.loss.push_back(r.best_value);
+  result.vanished = !std::isfinite(r.best_value);
+  result.unseen_primitives = unseen_primitives(tree, target, tessellation, o.threads);
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+}  // namespace
+
 RefineResult refine(const Tree& input, const RefineTarget& target, const RefineOptions& o,
                     const TessellationOptions& tessellation) {
   if (target.cameras.empty() || target.cameras.size() != target.images.size()) {
@@ -223,6 +340,11 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     throw InputError("refine: random views need a target that can be drawn (a model or a mesh)");
   }
   if (o.check_every < 1) throw InputError("refine: check interval: must be at least 1");
+  if (o.method == Method::kCmaes) {
+    if (o.random_view_every > 0) throw InputError("refine: CMA-ES uses the fixed views only");
+    if (!(o.cmaes_sigma > 0)) throw InputError("refine: CMA-ES sigma: must be > 0");
+    return refine_cmaes(input, target, o, tessellation);
+  }
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
@@ -316,26 +438,11 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
       m[k] = o.beta1 * m[k] + (1 - o.beta1) * grad[k];
       v2[k] = o.beta2 * v2[k] + (1 - o.beta2) * grad[k] * grad[k];
       params[k] -= o.lr * (m[k] / c1) / (std::sqrt(v2[k] / c2) + o.eps);
-      // Sizes and radii stay in their ranges (a radius above 0).
-      if (params[k] < p.range.lo || (p.range.lo_open && params[k] <= p.range.lo)) {
-        params[k] = p.range.lo + 1e-6;
-      }
-      if (params[k] > p.range.hi) params[k] = p.range.hi;
+      params[k] = in_range(p, params[k]);
     }
   }
   tree.params.set_values(params);
-  // Which primitives the fixed views still show.
-  const Scene final_scene = scene_from_tree(tree, "refine", tessellation);
-  std::set<int> seen;
-  for (const Camera& cam : target.cameras) {
-    const Frame f = render_visibility(final_scene, cam, o.threads);
-    for (const int p : f.primitive) {
-      if (p >= 0) seen.insert(p);
-    }
-  }
-  for (std::size_t p = 0; p < final_scene.primitives.size(); ++p) {
-    if (!seen.count(static_cast<int>(p))) result.unseen_primitives.push_back(final_scene.tree_node[p]);
-  }
+  result.unseen_primitives = unseen_primitives(tree, target, tessellation, o.threads);
   result.seconds = since(start);
   return result;
 }

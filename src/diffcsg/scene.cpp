@@ -313,12 +313,13 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
       bind.rotate = n.placement.rotate;
       bind.scale = n.placement.scale;
       if (bind.rotate.size() == 3) {
-        bind.rotation =
-            placement::rotation_3d(value(bind.rotate[0]), value(bind.rotate[1]), value(bind.rotate[2]));
+        bind.rotation = placement::rotation_3d(value(bind.rotate[0]), value(bind.rotate[1]),
+                                               value(bind.rotate[2]));
       }
       bind.scale_value = bind.scale ? value(*bind.scale) : 1.0;
       Vec3 t{0, 0, 0};
-      for (std::size_t k = 0; k < bind.translate.size() && k < 3; ++k) t[k] = value(bind.translate[k]);
+      for (std::size_t k = 0; k < bind.translate.size() && k < 3; ++k)
+        t[k] = value(bind.translate[k]);
       TriMesh m = std::move(leaf.mesh);
       const std::array<double, 9>& r = bind.rotation;
       const double s = bind.scale_value;
@@ -383,7 +384,8 @@ Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
     if (len > 0) n = {n[0] / len, n[1] / len, n[2] / len};
     normal[t] = n;
     for (int k = 0; k < 3; ++k) {
-      const int a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
+      const int a = tri[static_cast<std::size_t>(k)],
+                b = tri[static_cast<std::size_t>((k + 1) % 3)];
       edges[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
     }
   }
@@ -400,7 +402,8 @@ Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
       stack.pop_back();
       const auto& tri = mesh.triangles[static_cast<std::size_t>(t)];
       for (int k = 0; k < 3; ++k) {
-        const int a = tri[static_cast<std::size_t>(k)], b = tri[static_cast<std::size_t>((k + 1) % 3)];
+        const int a = tri[static_cast<std::size_t>(k)],
+                  b = tri[static_cast<std::size_t>((k + 1) % 3)];
         for (const int u : edges[{std::min(a, b), std::max(a, b)}]) {
           if (mesh.smoothing[static_cast<std::size_t>(u)] != -2) continue;
           if (dot(normal[static_cast<std::size_t>(t)], normal[static_cast<std::size_t>(u)]) <

@@ -109,7 +109,8 @@ void barycentrics_vjp(const Clip& clip, int i, int j, const Vec3& a, const Vec3&
   for (std::size_t k = 0; k < 3; ++k) {
     const double gx = gp[k][0], gy = gp[k][1], gw = -fx * gp[k][0] - fy * gp[k][1];
     for (std::size_t d = 0; d < 3; ++d) {
-      (*out[k])[d] += gx * clip.kx * clip.right[d] + gy * clip.ky * clip.up[d] + gw * clip.forward[d];
+      (*out[k])[d] +=
+          gx * clip.kx * clip.right[d] + gy * clip.ky * clip.up[d] + gw * clip.forward[d];
     }
   }
 }
@@ -192,16 +193,17 @@ Image shade(const Scene& scene, const CornerNormals& normals, const Camera& came
     const auto& tri = m.triangles[t];
     const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
     const int j = static_cast<int>(px / static_cast<std::size_t>(frame.width));
-    const std::array<double, 3> b = barycentrics(
-        clip, i, j, m.vertices[static_cast<std::size_t>(tri[0])],
-        m.vertices[static_cast<std::size_t>(tri[1])], m.vertices[static_cast<std::size_t>(tri[2])],
-        nullptr, nullptr);
+    const std::array<double, 3> b =
+        barycentrics(clip, i, j, m.vertices[static_cast<std::size_t>(tri[0])],
+                     m.vertices[static_cast<std::size_t>(tri[1])],
+                     m.vertices[static_cast<std::size_t>(tri[2])], nullptr, nullptr);
     // A back face (its normal along the ray) is the inside of a subtracted primitive.
     const Vec3 d = camera.ray(i, j);
     const double flip = dot(face_cross(m, t), d) > 0 ? -1.0 : 1.0;
     for (std::size_t k = 0; k < 3; ++k) {
       double v = 0;
-      for (int c = 0; c < 3; ++c) v += b[static_cast<std::size_t>(c)] * normals.at(prim, static_cast<int>(t), c)[k];
+      for (int c = 0; c < 3; ++c)
+        v += b[static_cast<std::size_t>(c)] * normals.at(prim, static_cast<int>(t), c)[k];
       o[k] = static_cast<float>(flip * v);
     }
     if (record) {
@@ -244,8 +246,8 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
       const Vec3 g1 = cross(e2, gsum), g2 = cross(gsum, e1);
       grad_vertices.add(static_cast<int>(p), tri[1], g1, px);
       grad_vertices.add(static_cast<int>(p), tri[2], g2, px);
-      grad_vertices.add(static_cast<int>(p), tri[0], {-g1[0] - g2[0], -g1[1] - g2[1], -g1[2] - g2[2]},
-                        px);
+      grad_vertices.add(static_cast<int>(p), tri[0],
+                        {-g1[0] - g2[0], -g1[1] - g2[1], -g1[2] - g2[2]}, px);
     }
   };
   for (std::size_t px = 0; px < frame.primitive.size(); ++px) {
@@ -264,8 +266,7 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
       const Vec3& n = normals.at(prim, static_cast<int>(t), static_cast<int>(c));
       gb[c] = flip * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2]);
       const Vec3 gn{flip * b[c] * g[0], flip * b[c] * g[1], flip * b[c] * g[2]};
-      const std::size_t slot =
-          static_cast<std::size_t>(normals.primitives[p].corner_slot[t][c]);
+      const std::size_t slot = static_cast<std::size_t>(normals.primitives[p].corner_slot[t][c]);
       if (attribute) {
         slot_backward(p, slot, gn, px);
       } else {

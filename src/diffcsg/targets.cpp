@@ -46,7 +46,8 @@ Scene read_mesh_scene(const std::filesystem::path& path, double crease_degrees) 
   }
   const double volume = signed_volume6(m);
   double extent = 0;
-  for (const Vec3& v : m.vertices) extent = std::max({extent, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+  for (const Vec3& v : m.vertices)
+    extent = std::max({extent, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
   if (!(std::abs(volume) > 1e-12 * extent * extent * extent)) {
     throw InputError(fmt::format("{}: the mesh encloses no volume", path.string()));
   }
@@ -128,9 +129,8 @@ ViewSet read_views(const std::filesystem::path& path) {
   if (!j.contains("version") || j["version"] != 1) fail("version", "1 expected");
   ViewSet out;
   if (j.contains("shading")) {
-    const auto s = j["shading"].is_string()
-                       ? shading_from_name(j["shading"].get<std::string>())
-                       : std::nullopt;
+    const auto s = j["shading"].is_string() ? shading_from_name(j["shading"].get<std::string>())
+                                            : std::nullopt;
     if (!s) fail("shading", "\"normals\" or \"colours\" expected");
     out.shading = *s;
   }
@@ -141,7 +141,8 @@ ViewSet read_views(const std::filesystem::path& path) {
     if (!v.is_array() || v.size() != 3) fail(where, "three numbers expected");
     Vec3 out3{};
     for (std::size_t k = 0; k < 3; ++k) {
-      if (!v[k].is_number() || !std::isfinite(v[k].get<double>())) fail(where, "three numbers expected");
+      if (!v[k].is_number() || !std::isfinite(v[k].get<double>()))
+        fail(where, "three numbers expected");
       out3[k] = v[k].get<double>();
     }
     return out3;
@@ -151,7 +152,8 @@ ViewSet read_views(const std::filesystem::path& path) {
     const nlohmann::json& v = j["views"][k];
     const std::string at = fmt::format("views[{}]", k);
     if (!v.is_object()) fail(at, "an object expected");
-    if (!v.contains("image") || !v["image"].is_string()) fail(at + ".image", "a file name expected");
+    if (!v.contains("image") || !v["image"].is_string())
+      fail(at + ".image", "a file name expected");
     for (const auto& [key, value] : v.items()) {
       if (key != "image" && key != "eye" && key != "target" && key != "up" && key != "fov" &&
           key != "size") {

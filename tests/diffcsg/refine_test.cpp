@@ -94,8 +94,7 @@ TEST(DiffcsgRefine, RecoversAMovedAndStretchedBoxFromThreeViews) {
   o.iterations = 150;
   o.lr = 0.005;
   o.stop_mse = 0;
-  const RefineResult r =
-      refine(start, RefineTarget{cams, targets, Shading::kColours, nullptr}, o);
+  const RefineResult r = refine(start, RefineTarget{cams, targets, Shading::kColours, nullptr}, o);
   ASSERT_FALSE(r.vanished);
   ASSERT_GE(r.loss.size(), 2u);
   const auto error = [&](const Tree& t) {

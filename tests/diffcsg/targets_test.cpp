@@ -236,6 +236,32 @@ TEST(DiffcsgTargets, RandomViewsAndAMeshTargetRecoverABox) {
   fs::remove_all(dir);
 }
 
+TEST(DiffcsgTargets, CmaesRecoversAMovedBoxWithoutGradients) {
+  const std::string box = R"({"type": "box", "size": [%g, 0.8, 0.6], "translate": [%g, 0, 0]})";
+  char buf[256];
+  std::snprintf(buf, sizeof buf, box.c_str(), 1.2, 0.1);
+  const Tree goal = tree_of(buf);
+  std::snprintf(buf, sizeof buf, box.c_str(), 1.0, 0.0);
+  const Tree start = tree_of(buf);
+  RefineTarget t = target_of(goal, Shading::kNormals, 2, 48);
+  RefineOptions o;
+  o.method = Method::kCmaes;
+  o.iterations = 1500;
+  const RefineResult r = refine(start, t, o);
+  std::printf("CMA-ES: %d evaluations, converged %d, check MSE %g, size x %g, x %g\n", r.steps,
+              r.converged, r.check_mse.back().second, r.tree.params.at(0).value,
+              r.tree.params.at(3).value);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LE(r.steps, 1500);
+  EXPECT_NEAR(r.tree.params.at(0).value, 1.2, 0.05);
+  EXPECT_LT(r.check_mse.back().second, 5e-4);
+  // The check is of the best point: its MSE is what the result's tree renders.
+  EXPECT_NEAR(image_mse(render_image(prepare_scene(scene_from_tree(r.tree, "r")), t.cameras[0],
+                                     Shading::kNormals, 1),
+                        t.images[0]),
+              r.check_mse.back().second, 1e-9);
+}
+
 TEST(DiffcsgTargets, RefinementRefusesTargetsItCannotUse) {
   const Tree start = bitten(0.45);
   RefineTarget t = target_of(start, Shading::kNormals, 1, 32);

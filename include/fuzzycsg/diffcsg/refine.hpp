@@ -49,7 +49,16 @@ struct RefineTarget {
   std::function<Image(const Camera&)> render;  // may be empty (images)
 };
 
+// Adam on the gradients of the differentiable renderer (DiffCSG), or CMA-ES on the loss alone
+// (optim/cmaes.hpp, DiffCSG §4.3's derivative-free baseline): it minimises the mean loss over the
+// fixed views, counts one step per evaluation (a render of every fixed view), and searches
+// every free parameter from steps of cmaes_sigma times its magnitude (parameters at 0: 10
+// degrees for angles, 5% of the model's extent otherwise).
+enum class Method { kAdam, kCmaes };
+
 struct RefineOptions {
+  Method method = Method::kAdam;
+  double cmaes_sigma = 0.1;
   int iterations = 1000;
   double lr = 0.01;
   double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
