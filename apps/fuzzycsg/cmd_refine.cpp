@@ -41,7 +41,8 @@ struct RefineArgs {
   int views = 4, size = 256, iters = 1000, threads = 0, random_views = 0;
   int sphere_subdivisions = 2, cylinder_segments = 16;
   long long seed = 1;
-  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30, cmaes_sigma = 0.1;
+  double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30, cmaes_sigma = 0.1,
+         lr_relative = 0;
   bool no_intersection_aa = false, quiet = false, size_given = false;
 };
 
@@ -74,6 +75,7 @@ int run_refine(const RefineArgs& a) {
     throw InputError("--random-views: not with --method cmaes (it needs one objective)");
   }
   if (!(a.cmaes_sigma > 0)) throw InputError("--cmaes-sigma: must be > 0");
+  if (!(a.lr_relative >= 0)) throw InputError("--lr-relative: must not be negative");
   diffcsg::TessellationOptions tess;
   tess.sphere_subdivisions = a.sphere_subdivisions;
   tess.cylinder_segments = a.cylinder_segments;
@@ -149,6 +151,7 @@ int run_refine(const RefineArgs& a) {
   o.cmaes_sigma = a.cmaes_sigma;
   o.iterations = a.iters;
   o.lr = a.lr;
+  o.lr_relative = a.lr_relative;
   o.loss = *loss;
   o.stop_mse = a.stop;
   o.intersection_aa = !a.no_intersection_aa;
@@ -200,6 +203,7 @@ int run_refine(const RefineArgs& a) {
                         {"size", {check.width, check.height}},
                         {"iters", a.iters},
                         {"lr", a.lr},
+                        {"lr_relative", a.lr_relative},
                         {"stop", a.stop},
                         {"random_views", a.random_views},
                         {"seed", a.seed},
@@ -284,7 +288,10 @@ Verb register_refine(CLI::App& app) {
   auto* size =
       cmd->add_option("--size", a->size, "Image size (pixels, square)")->capture_default_str();
   cmd->add_option("--iters", a->iters, "Adam steps at most")->capture_default_str();
-  cmd->add_option("--lr", a->lr, "Learning rate")->capture_default_str();
+  cmd->add_option("--lr", a->lr, "Learning rate (the parameters' units)")->capture_default_str();
+  cmd->add_option("--lr-relative", a->lr_relative,
+                  "Instead of --lr: each parameter's rate this fraction of its magnitude (at 0: "
+                  "of 10 degrees for angles, 5% of the model's extent otherwise)");
   cmd->add_option("--stop", a->stop, "Stop when view 0's mean squared error falls below this")
       ->capture_default_str();
   cmd->add_option("--random-views", a->random_views,

@@ -1,5 +1,7 @@
 #include "fuzzycsg/diffcsg/antialias.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -84,6 +86,14 @@ Projection project(const Camera& camera, const Vec3& p) { return project(camera_
 Image antialias(const Scene& scene, const Topology& topology, const Camera& camera,
                 const Frame& frame, const Image& colour, std::vector<AaPair>* pairs,
                 const std::vector<IntersectionEdge>* edges) {
+  Image out;
+  antialias(scene, topology, camera, frame, colour, out, pairs, edges);
+  return out;
+}
+
+void antialias(const Scene& scene, const Topology& topology, const Camera& camera,
+               const Frame& frame, const Image& colour, Image& out, std::vector<AaPair>* pairs,
+               const std::vector<IntersectionEdge>* edges) {
   // Intersection edges by the pair of triangles they join.
   std::map<std::array<int, 4>, std::vector<int>> by_triangles;
   if (edges) {
@@ -97,99 +107,122 @@ Image antialias(const Scene& scene, const Topology& topology, const Camera& came
     throw Error("antialias: the colour image's size differs from the frame's");
   }
   const CameraFrame cf = camera_frame(camera);
-  Image out = colour;
-  if (pairs) pairs->clear();
+  // Every vertex's screen position, once.
+  std::vector<std::vector<std::array<double, 2>>> screen(scene.primitives.size());
+  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+    for (const Vec3& v : scene.primitives[p].vertices) {
+      const Projection pr = project(cf, v);
+      screen[p].push_back({pr.sx, pr.sy});
+    }
+  }
   const int w = frame.width, h = frame.height, ch = colour.channels;
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      for (int dir = 0; dir < 2; ++dir) {
-        const int i1 = i + (dir == 0 ? 1 : 0), j1 = j + (dir == 1 ? 1 : 0);
-        if (i1 >= w || j1 >= h) continue;
-        const std::size_t p0 = static_cast<std::size_t>(j) * w + i;
-        const std::size_t p1 = static_cast<std::size_t>(j1) * w + i1;
-        const int pr0 = frame.primitive[p0], pr1 = frame.primitive[p1];
-        if (pr0 == pr1 && frame.triangle[p0] == frame.triangle[p1]) continue;
-        // The triangle in front, or the only one.
-        bool from0 = pr1 < 0 || (pr0 >= 0 && frame.depth[p0] <= frame.depth[p1]);
-        const std::size_t src = from0 ? p0 : p1;
-        const int s = from0 ? 1 : -1;
-        const int prim = frame.primitive[src], tri = frame.triangle[src];
-        const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
-        const auto& t = m.triangles[static_cast<std::size_t>(tri)];
-        const double ox = (src % static_cast<std::size_t>(w)) + 0.5;
-        const double oy = static_cast<double>(src / static_cast<std::size_t>(w)) + 0.5;
-        const auto local = [&](int vertex, double& x, double& y) {
-          const Projection pr = project(cf, m.vertices[static_cast<std::size_t>(vertex)]);
-          x = pr.sx - ox;
-          y = pr.sy - oy;
-          if (dir == 1) std::swap(x, y);
-        };
-        double vx[3], vy[3];
-        for (int k = 0; k < 3; ++k) local(t[static_cast<std::size_t>(k)], vx[k], vy[k]);
-        const double bb = cross2(vx[1] - vx[0], vy[1] - vy[0], vx[2] - vx[0], vy[2] - vy[0]);
-        int best = -1;
-        double best_t = -HUGE_VAL;
-        for (int k = 0; k < 3; ++k) {
-          const int a = (k + 1) % 3, b = (k + 2) % 3;
-          if ((vy[a] < 0) == (vy[b] < 0)) continue;
-          const double tk = s * (vx[a] * vy[b] - vx[b] * vy[a]) / (vy[b] - vy[a]);
-          if (tk > best_t) {
-            best_t = tk;
-            best = k;
+  // The pairs of each block of rows, found in parallel; blended in row order after, so that the
+  // result does not depend on the threads.
+  constexpr int kRows = 8;
+  const int blocks = (h + kRows - 1) / kRows;
+  std::vector<std::vector<AaPair>> found_pairs(static_cast<std::size_t>(blocks));
+  tbb::parallel_for(0, blocks, [&](int block) {
+    std::vector<AaPair>& local_pairs = found_pairs[static_cast<std::size_t>(block)];
+    for (int j = block * kRows; j < std::min(h, (block + 1) * kRows); ++j) {
+      for (int i = 0; i < w; ++i) {
+        for (int dir = 0; dir < 2; ++dir) {
+          const int i1 = i + (dir == 0 ? 1 : 0), j1 = j + (dir == 1 ? 1 : 0);
+          if (i1 >= w || j1 >= h) continue;
+          const std::size_t p0 = static_cast<std::size_t>(j) * w + i;
+          const std::size_t p1 = static_cast<std::size_t>(j1) * w + i1;
+          const int pr0 = frame.primitive[p0], pr1 = frame.primitive[p1];
+          if (pr0 == pr1 && frame.triangle[p0] == frame.triangle[p1]) continue;
+          // The triangle in front, or the only one.
+          const bool from0 = pr1 < 0 || (pr0 >= 0 && frame.depth[p0] <= frame.depth[p1]);
+          const std::size_t src = from0 ? p0 : p1;
+          const int s = from0 ? 1 : -1;
+          const int prim = frame.primitive[src], tri = frame.triangle[src];
+          const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
+          const auto& t = m.triangles[static_cast<std::size_t>(tri)];
+          const double ox = (src % static_cast<std::size_t>(w)) + 0.5;
+          const double oy = static_cast<double>(src / static_cast<std::size_t>(w)) + 0.5;
+          const auto& scr = screen[static_cast<std::size_t>(prim)];
+          const auto local = [&](int vertex, double& x, double& y) {
+            x = scr[static_cast<std::size_t>(vertex)][0] - ox;
+            y = scr[static_cast<std::size_t>(vertex)][1] - oy;
+            if (dir == 1) std::swap(x, y);
+          };
+          double vx[3], vy[3];
+          for (int k = 0; k < 3; ++k) local(t[static_cast<std::size_t>(k)], vx[k], vy[k]);
+          const double bb = cross2(vx[1] - vx[0], vy[1] - vy[0], vx[2] - vx[0], vy[2] - vy[0]);
+          int best = -1;
+          double best_t = -HUGE_VAL;
+          for (int k = 0; k < 3; ++k) {
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            if ((vy[a] < 0) == (vy[b] < 0)) continue;
+            const double tk = s * (vx[a] * vy[b] - vx[b] * vy[a]) / (vy[b] - vy[a]);
+            if (tk > best_t) {
+              best_t = tk;
+              best = k;
+            }
           }
-        }
-        const auto blend = [&](double t_cross, int edge, int intersection) {
-          const double th = std::clamp(t_cross, 0.0, 1.0);
-          const double alpha = s * (0.5 - th);
-          const std::size_t target = alpha > 0 ? p0 : p1;
-          for (int c = 0; c < ch; ++c) {
-            out.at(target)[c] += static_cast<float>(alpha * (colour.at(p1)[c] - colour.at(p0)[c]));
+          const auto blend = [&](double t_cross, int edge, int intersection) {
+            const double th = std::clamp(t_cross, 0.0, 1.0);
+            const double alpha = s * (0.5 - th);
+            const std::size_t target = alpha > 0 ? p0 : p1;
+            local_pairs.push_back(
+                {p0, p1, target, prim, tri, edge, s, dir == 1, alpha, intersection});
+          };
+          bool done = false;
+          if (best >= 0) {
+            // Silhouette: the neighbour across the edge faces the other way on screen.
+            double qx[3] = {vx[0], vx[1], vx[2]}, qy[3] = {vy[0], vy[1], vy[2]};
+            local(topology[static_cast<std::size_t>(prim)][static_cast<std::size_t>(tri)]
+                          [static_cast<std::size_t>(best)],
+                  qx[best], qy[best]);
+            const double ak = cross2(qx[1] - qx[0], qy[1] - qy[0], qx[2] - qx[0], qy[2] - qy[0]);
+            const int a = (best + 1) % 3, b = (best + 2) % 3;
+            if (std::signbit(ak) == std::signbit(bb) &&
+                std::abs(vy[b] - vy[a]) >= std::abs(vx[b] - vx[a]) && best_t > -1.0 / 16 &&
+                best_t < 17.0 / 16) {
+              blend(best_t, best, -1);
+              done = true;
+            }
           }
-          if (pairs) {
-            pairs->push_back({p0, p1, target, prim, tri, edge, s, dir == 1, alpha, intersection});
-          }
-        };
-        bool done = false;
-        if (best >= 0) {
-          // Silhouette: the neighbour across the edge faces the other way on screen.
-          double qx[3] = {vx[0], vx[1], vx[2]}, qy[3] = {vy[0], vy[1], vy[2]};
-          local(topology[static_cast<std::size_t>(prim)][static_cast<std::size_t>(tri)]
-                        [static_cast<std::size_t>(best)],
-                qx[best], qy[best]);
-          const double ak = cross2(qx[1] - qx[0], qy[1] - qy[0], qx[2] - qx[0], qy[2] - qy[0]);
-          const int a = (best + 1) % 3, b = (best + 2) % 3;
-          if (std::signbit(ak) == std::signbit(bb) &&
-              std::abs(vy[b] - vy[a]) >= std::abs(vx[b] - vx[a]) && best_t > -1.0 / 16 &&
-              best_t < 17.0 / 16) {
-            blend(best_t, best, -1);
-            done = true;
-          }
-        }
-        if (done || !edges || pr0 < 0 || pr1 < 0 || pr0 == pr1) continue;
-        // The intersection edge of the two triangles shown, if it passes between the pixels.
-        const int t0 = frame.triangle[p0], t1 = frame.triangle[p1];
-        const auto found = by_triangles.find(pr0 < pr1 ? std::array<int, 4>{pr0, t0, pr1, t1}
+          if (done || !edges || pr0 < 0 || pr1 < 0 || pr0 == pr1) continue;
+          // The intersection edge of the two triangles shown, if it passes between the pixels.
+          const int t0 = frame.triangle[p0], t1 = frame.triangle[p1];
+          const auto hit = by_triangles.find(pr0 < pr1 ? std::array<int, 4>{pr0, t0, pr1, t1}
                                                        : std::array<int, 4>{pr1, t1, pr0, t0});
-        if (found == by_triangles.end()) continue;
-        for (const int e : found->second) {
-          const IntersectionEdge& x = (*edges)[static_cast<std::size_t>(e)];
-          const Projection pp = project(cf, x.p), pq = project(cf, x.q);
-          double ax = pp.sx - ox, ay = pp.sy - oy, bx = pq.sx - ox, by = pq.sy - oy;
-          if (dir == 1) {
-            std::swap(ax, ay);
-            std::swap(bx, by);
+          if (hit == by_triangles.end()) continue;
+          for (const int e : hit->second) {
+            const IntersectionEdge& x = (*edges)[static_cast<std::size_t>(e)];
+            const Projection pp = project(cf, x.p), pq = project(cf, x.q);
+            double ax = pp.sx - ox, ay = pp.sy - oy, bx = pq.sx - ox, by = pq.sy - oy;
+            if (dir == 1) {
+              std::swap(ax, ay);
+              std::swap(bx, by);
+            }
+            if ((ay < 0) == (by < 0)) continue;
+            if (std::abs(by - ay) < std::abs(bx - ax)) continue;
+            const double tc = s * (ax * by - bx * ay) / (by - ay);
+            if (!(tc > -1.0 / 16 && tc < 17.0 / 16)) continue;
+            blend(tc, -1, e);
+            break;
           }
-          if ((ay < 0) == (by < 0)) continue;
-          if (std::abs(by - ay) < std::abs(bx - ax)) continue;
-          const double tc = s * (ax * by - bx * ay) / (by - ay);
-          if (!(tc > -1.0 / 16 && tc < 17.0 / 16)) continue;
-          blend(tc, -1, e);
-          break;
         }
       }
     }
+  });
+  out.width = colour.width;
+  out.height = colour.height;
+  out.channels = colour.channels;
+  out.data.assign(colour.data.begin(), colour.data.end());
+  if (pairs) pairs->clear();
+  for (const std::vector<AaPair>& block : found_pairs) {
+    for (const AaPair& pr : block) {
+      for (int c = 0; c < ch; ++c) {
+        out.at(pr.target)[c] +=
+            static_cast<float>(pr.alpha * (colour.at(pr.p1)[c] - colour.at(pr.p0)[c]));
+      }
+      if (pairs) pairs->push_back(pr);
+    }
   }
-  return out;
 }
 
 void antialias_backward(const Scene& scene, const Camera& camera, const Image& colour,

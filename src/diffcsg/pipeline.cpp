@@ -33,15 +33,20 @@ PreparedScene prepare_scene(Scene scene, bool intersection_aa) {
 
 ViewPass render_view(const PreparedScene& s, const Camera& camera, Shading shading, int threads) {
   ViewPass pass;
+  render_view(s, camera, shading, threads, pass);
+  return pass;
+}
+
+void render_view(const PreparedScene& s, const Camera& camera, Shading shading, int threads,
+                 ViewPass& pass) {
   auto t0 = Clock::now();
   pass.frame = render_visibility(s.scene, camera, threads);
   pass.seconds_visibility = since(t0);
   t0 = Clock::now();
-  pass.shaded = shade(s.scene, s.normals, camera, pass.frame, shading, &pass.record);
-  pass.image = antialias(s.scene, s.topology, camera, pass.frame, pass.shaded, &pass.pairs,
-                         s.intersection_aa ? &s.edges : nullptr);
+  shade(s.scene, s.normals, camera, pass.frame, shading, pass.shaded, &pass.record);
+  antialias(s.scene, s.topology, camera, pass.frame, pass.shaded, pass.image, &pass.pairs,
+            s.intersection_aa ? &s.edges : nullptr);
   pass.seconds_antialias = since(t0);
-  return pass;
 }
 
 void render_view_backward(const PreparedScene& s, const Camera& camera, Shading shading,

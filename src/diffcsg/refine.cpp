@@ -159,8 +159,10 @@ double image_loss(const Image& image, const Image& target, Loss loss, Image* gra
     throw Error("image_loss: the images differ in size");
   }
   if (grad) {
-    *grad = image;
-    std::fill(grad->data.begin(), grad->data.end(), 0.0f);
+    grad->width = image.width;
+    grad->height = image.height;
+    grad->channels = image.channels;
+    grad->data.assign(image.data.size(), 0.0f);
   }
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   const std::size_t ch = static_cast<std::size_t>(image.channels);
@@ -229,6 +231,23 @@ double in_range(const Parameter& p, double x) {
   return std::min(x, p.range.hi);
 }
 
+}  // namespace
+
+std::vector<double> parameter_scales(const Tree& tree, const TessellationOptions& tessellation) {
+  const auto [lo, hi] = scene_from_tree(tree, "refine", tessellation).bounds();
+  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-9});
+  std::vector<double> out;
+  for (std::size_t k = 0; k < tree.params.size(); ++k) {
+    const Parameter& p = tree.params.at(k);
+    out.push_back(std::abs(p.value) > 0                         ? std::abs(p.value)
+                  : p.name.find(".rotate") != std::string::npos ? 10.0
+                                                                : 0.05 * extent);
+  }
+  return out;
+}
+
+namespace {
+
 RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const RefineOptions& o,
                           const TessellationOptions& tessellation) {
   using Clock = std::chrono::steady_clock;
@@ -246,15 +265,11 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
     if (!tree.params.at(k).fixed) free.push_back(k);
   }
   if (free.empty()) throw InputError("refine: the model has no free parameters");
-  const auto [lo, hi] = scene_from_tree(tree, "refine", tessellation).bounds();
-  const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-9});
+  const std::vector<double> natural = parameter_scales(tree, tessellation);
   std::vector<double> x0, scale;
   for (const std::size_t k : free) {
-    const Parameter& p = tree.params.at(k);
-    x0.push_back(p.value);
-    scale.push_back(std::abs(p.value) > 0 ? o.cmaes_sigma * std::abs(p.value)
-                    : p.name.find(".rotate") != std::string::npos ? 10.0
-                                                                  : 0.05 * extent);
+    x0.push_back(tree.params.at(k).value);
+    scale.push_back(o.cmaes_sigma * natural[k]);
   }
   std::vector<double> params = initial;
   const auto set = [&](std::span<const double> x) {
@@ -335,6 +350,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
   }
   if (o.iterations < 0) throw InputError("refine: iterations: must not be negative");
   if (!(o.lr > 0)) throw InputError("refine: lr: must be > 0");
+  if (!(o.lr_relative >= 0)) throw InputError("refine: relative lr: must not be negative");
   if (o.random_view_every < 0) throw InputError("refine: random views: must not be negative");
   if (o.random_view_every > 0 && !target.render) {
     throw InputError("refine: random views need a target that can be drawn (a model or a mesh)");
@@ -367,6 +383,11 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
 
   std::vector<double> params = tree.params.values(), m(params.size(), 0.0), v2(params.size(), 0.0);
   std::vector<double> previous = params;  // before the last step
+  std::vector<double> lr(params.size(), o.lr);
+  if (o.lr_relative > 0) {
+    lr = parameter_scales(tree, tessellation);
+    for (double& x : lr) x *= o.lr_relative;
+  }
   const auto check_mse = [&](const PreparedScene& ps, const ViewPass* pass0) {
     const double mse =
         pass0 ? image_mse(pass0->image, target.images[0])
@@ -374,6 +395,8 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     result.check_mse.emplace_back(result.steps, mse);
     return mse;
   };
+  std::vector<ViewPass> passes;  // reused from step to step
+  Image grad_image;
   for (int step = 0;; ++step) {
     tree.params.set_values(params);
     PreparedScene ps =
@@ -390,21 +413,22 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     gv.resize(ps.scene);
     double loss = 0;
     int visible = 0;
-    std::optional<ViewPass> pass0;
+    const ViewPass* pass0 = nullptr;
+    passes.resize(views);
     for (std::size_t v = 0; v < views; ++v) {
       const Camera& cam = random ? random_camera : target.cameras[v];
       const Image& goal = random ? random_image : target.images[v];
-      ViewPass pass = render_view(ps, cam, target.shading, o.threads);
+      ViewPass& pass = passes[v];
+      render_view(ps, cam, target.shading, o.threads, pass);
       result.seconds_visibility += pass.seconds_visibility;
       result.seconds_antialias += pass.seconds_antialias;
       visible += pass.frame.visible_pixels();
       const auto t0 = Clock::now();
-      Image grad;
-      loss += image_loss(pass.image, goal, o.loss, &grad) / static_cast<double>(views);
-      for (float& g : grad.data) g /= static_cast<float>(views);
-      render_view_backward(ps, cam, target.shading, pass, grad, gv);
+      loss += image_loss(pass.image, goal, o.loss, &grad_image) / static_cast<double>(views);
+      for (float& g : grad_image.data) g /= static_cast<float>(views);
+      render_view_backward(ps, cam, target.shading, pass, grad_image, gv);
       result.seconds_backward += since(t0);
-      if (!random && v == 0) pass0 = std::move(pass);
+      if (!random && v == 0) pass0 = &pass;
     }
     if (visible == 0) {
       if (step == 0) {
@@ -419,7 +443,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     // The check view's error is free when view 0 is trained on; otherwise it costs a render,
     // every check_every steps.
     if (!random || step % o.check_every == 0 || last) {
-      if (check_mse(ps, pass0 ? &*pass0 : nullptr) < o.stop_mse) {
+      if (check_mse(ps, pass0) < o.stop_mse) {
         result.converged = true;
         break;
       }
@@ -437,7 +461,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
       if (p.fixed) continue;
       m[k] = o.beta1 * m[k] + (1 - o.beta1) * grad[k];
       v2[k] = o.beta2 * v2[k] + (1 - o.beta2) * grad[k] * grad[k];
-      params[k] -= o.lr * (m[k] / c1) / (std::sqrt(v2[k] / c2) + o.eps);
+      params[k] -= lr[k] * (m[k] / c1) / (std::sqrt(v2[k] / c2) + o.eps);
       params[k] = in_range(p, params[k]);
     }
   }

@@ -1,5 +1,9 @@
 #include "fuzzycsg/diffcsg/shade.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -59,6 +63,12 @@ struct Clip {
   }
   double fx(int i) const { return 2 * (i + 0.5) / width - 1; }
   double fy(int j) const { return 1 - 2 * (j + 0.5) / height; }
+  // The direction of pixel (i, j)'s ray (not of unit length).
+  Vec3 ray(int i, int j) const {
+    const double x = fx(i) / kx, y = fy(j) / ky;
+    return {forward[0] + x * right[0] + y * up[0], forward[1] + x * right[1] + y * up[1],
+            forward[2] + x * right[2] + y * up[2]};
+  }
 };
 
 std::array<double, 3> barycentrics(const Clip& clip, int i, int j, const Vec3& a, const Vec3& b,
@@ -169,49 +179,56 @@ CornerNormals corner_normals(const Scene& scene) {
 
 Image shade(const Scene& scene, const CornerNormals& normals, const Camera& camera,
             const Frame& frame, Shading shading, ShadeRecord* record) {
+  Image img;
+  shade(scene, normals, camera, frame, shading, img, record);
+  return img;
+}
+
+void shade(const Scene& scene, const CornerNormals& normals, const Camera& camera,
+           const Frame& frame, Shading shading, Image& img, ShadeRecord* record) {
   if (frame.width != camera.width || frame.height != camera.height) {
     throw Error("shade: the frame's size differs from the camera's");
   }
   const std::size_t pixels = frame.primitive.size();
-  Image img{frame.width, frame.height, 3, std::vector<float>(pixels * 3, 0.0f)};
-  if (record) {
-    record->barycentric.assign(pixels, {0, 0, 0});
-    record->flip.assign(pixels, 1);
-  }
+  img.width = frame.width;
+  img.height = frame.height;
+  img.channels = 3;
+  img.data.assign(pixels * 3, 0.0f);
+  if (record) record->flip.assign(pixels, 1);
   const Clip clip(camera);
-  for (std::size_t px = 0; px < pixels; ++px) {
-    const int prim = frame.primitive[px];
-    if (prim < 0) continue;
-    float* o = img.at(px);
-    if (shading == Shading::kColours) {
-      const auto c = primitive_colour(prim);
-      for (std::size_t k = 0; k < 3; ++k) o[k] = c[k];
-      continue;
-    }
-    const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
-    const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
-    const auto& tri = m.triangles[t];
-    const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
-    const int j = static_cast<int>(px / static_cast<std::size_t>(frame.width));
-    const std::array<double, 3> b =
-        barycentrics(clip, i, j, m.vertices[static_cast<std::size_t>(tri[0])],
-                     m.vertices[static_cast<std::size_t>(tri[1])],
-                     m.vertices[static_cast<std::size_t>(tri[2])], nullptr, nullptr);
-    // A back face (its normal along the ray) is the inside of a subtracted primitive.
-    const Vec3 d = camera.ray(i, j);
-    const double flip = dot(face_cross(m, t), d) > 0 ? -1.0 : 1.0;
-    for (std::size_t k = 0; k < 3; ++k) {
-      double v = 0;
-      for (int c = 0; c < 3; ++c)
-        v += b[static_cast<std::size_t>(c)] * normals.at(prim, static_cast<int>(t), c)[k];
-      o[k] = static_cast<float>(flip * v);
-    }
-    if (record) {
-      record->barycentric[px] = b;
-      record->flip[px] = static_cast<std::int8_t>(flip);
-    }
-  }
-  return img;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, pixels, 4096),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t px = range.begin(); px != range.end(); ++px) {
+          const int prim = frame.primitive[px];
+          if (prim < 0) continue;
+          float* o = img.at(px);
+          if (shading == Shading::kColours) {
+            const auto c = primitive_colour(prim);
+            for (std::size_t k = 0; k < 3; ++k) o[k] = c[k];
+            continue;
+          }
+          const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
+          const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
+          const auto& tri = m.triangles[t];
+          const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
+          const int j = static_cast<int>(px / static_cast<std::size_t>(frame.width));
+          const std::array<double, 3> b =
+              barycentrics(clip, i, j, m.vertices[static_cast<std::size_t>(tri[0])],
+                           m.vertices[static_cast<std::size_t>(tri[1])],
+                           m.vertices[static_cast<std::size_t>(tri[2])], nullptr, nullptr);
+          // A back face (its normal along the ray) is the inside of a subtracted primitive.
+          const double flip = dot(face_cross(m, t), clip.ray(i, j)) > 0 ? -1.0 : 1.0;
+          for (std::size_t k = 0; k < 3; ++k) {
+            double v = 0;
+            for (int c = 0; c < 3; ++c) {
+              v += b[static_cast<std::size_t>(c)] * normals.at(prim, static_cast<int>(t), c)[k];
+            }
+            o[k] = static_cast<float>(flip * v);
+          }
+          if (record) record->flip[px] = static_cast<std::int8_t>(flip);
+        }
+      });
 }
 
 void shade_backward(const Scene& scene, const CornerNormals& normals, const Camera& camera,
@@ -227,7 +244,8 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
     g_slot[p].assign(normals.primitives[p].slot_normal.size(), Vec3{0, 0, 0});
   }
   const Clip clip(camera);
-  const auto slot_backward = [&](std::size_t p, std::size_t s, const Vec3& gn, std::size_t px) {
+  const auto slot_backward = [&](VertexGradient& into, std::size_t p, std::size_t s, const Vec3& gn,
+                                 std::size_t px) {
     // n = N / |N|, N = sum over the slot's faces of (b - a) x (c - a).
     const CornerNormals::Primitive& cp = normals.primitives[p];
     const Vec3& sum = cp.slot_sum[s];
@@ -244,50 +262,77 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
       const Vec3 e1 = sub(m.vertices[static_cast<std::size_t>(tri[1])], a);
       const Vec3 e2 = sub(m.vertices[static_cast<std::size_t>(tri[2])], a);
       const Vec3 g1 = cross(e2, gsum), g2 = cross(gsum, e1);
-      grad_vertices.add(static_cast<int>(p), tri[1], g1, px);
-      grad_vertices.add(static_cast<int>(p), tri[2], g2, px);
-      grad_vertices.add(static_cast<int>(p), tri[0],
-                        {-g1[0] - g2[0], -g1[1] - g2[1], -g1[2] - g2[2]}, px);
+      into.add(static_cast<int>(p), tri[1], g1, px);
+      into.add(static_cast<int>(p), tri[2], g2, px);
+      into.add(static_cast<int>(p), tri[0], {-g1[0] - g2[0], -g1[1] - g2[1], -g1[2] - g2[2]}, px);
     }
   };
-  for (std::size_t px = 0; px < frame.primitive.size(); ++px) {
-    const int prim = frame.primitive[px];
-    if (prim < 0) continue;
-    const float* g = grad.at(px);
-    if (g[0] == 0 && g[1] == 0 && g[2] == 0) continue;
-    const std::size_t p = static_cast<std::size_t>(prim);
-    const TriMesh& m = scene.primitives[p];
-    const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
-    const auto& tri = m.triangles[t];
-    const double flip = record.flip[px];
-    const std::array<double, 3>& b = record.barycentric[px];
-    std::array<double, 3> gb{};
-    for (std::size_t c = 0; c < 3; ++c) {
-      const Vec3& n = normals.at(prim, static_cast<int>(t), static_cast<int>(c));
-      gb[c] = flip * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2]);
-      const Vec3 gn{flip * b[c] * g[0], flip * b[c] * g[1], flip * b[c] * g[2]};
-      const std::size_t slot = static_cast<std::size_t>(normals.primitives[p].corner_slot[t][c]);
-      if (attribute) {
-        slot_backward(p, slot, gn, px);
-      } else {
-        for (std::size_t k = 0; k < 3; ++k) g_slot[p][slot][k] += gn[k];
+  // Blocks of pixels in parallel, each into its own accumulators, summed in block order (the
+  // same result for any number of threads).
+  const std::size_t pixels = frame.primitive.size();
+  constexpr std::size_t kBlock = 16384;
+  const std::size_t blocks = (pixels + kBlock - 1) / kBlock;
+  std::vector<VertexGradient> parts(blocks);
+  std::vector<std::vector<std::vector<Vec3>>> slot_parts(blocks);
+  tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t block) {
+    VertexGradient& part = parts[block];
+    part.tangent = grad_vertices.tangent;
+    part.per_pixel = grad_vertices.per_pixel;  // each block writes its own pixels only
+    part.resize(scene);
+    auto& gs = slot_parts[block];
+    gs = g_slot;
+    for (std::size_t px = block * kBlock; px < std::min(pixels, (block + 1) * kBlock); ++px) {
+      const int prim = frame.primitive[px];
+      if (prim < 0) continue;
+      const float* g = grad.at(px);
+      if (g[0] == 0 && g[1] == 0 && g[2] == 0) continue;
+      const std::size_t p = static_cast<std::size_t>(prim);
+      const TriMesh& m = scene.primitives[p];
+      const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
+      const auto& tri = m.triangles[t];
+      const double flip = record.flip[px];
+      const Vec3& va = m.vertices[static_cast<std::size_t>(tri[0])];
+      const Vec3& vb = m.vertices[static_cast<std::size_t>(tri[1])];
+      const Vec3& vc = m.vertices[static_cast<std::size_t>(tri[2])];
+      const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
+      const int j = static_cast<int>(px / static_cast<std::size_t>(frame.width));
+      const std::array<double, 3> b = barycentrics(clip, i, j, va, vb, vc, nullptr, nullptr);
+      std::array<double, 3> gb{};
+      for (std::size_t c = 0; c < 3; ++c) {
+        const Vec3& n = normals.at(prim, static_cast<int>(t), static_cast<int>(c));
+        gb[c] = flip * (g[0] * n[0] + g[1] * n[1] + g[2] * n[2]);
+        const Vec3 gn{flip * b[c] * g[0], flip * b[c] * g[1], flip * b[c] * g[2]};
+        const std::size_t slot = static_cast<std::size_t>(normals.primitives[p].corner_slot[t][c]);
+        if (attribute) {
+          slot_backward(part, p, slot, gn, px);
+        } else {
+          for (std::size_t k = 0; k < 3; ++k) gs[p][slot][k] += gn[k];
+        }
+      }
+      Vec3 ga{}, gbv{}, gc{};
+      barycentrics_vjp(clip, i, j, va, vb, vc, gb, ga, gbv, gc);
+      part.add(prim, tri[0], ga, px);
+      part.add(prim, tri[1], gbv, px);
+      part.add(prim, tri[2], gc, px);
+    }
+  });
+  for (std::size_t block = 0; block < blocks; ++block) {
+    for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+      for (std::size_t v = 0; v < parts[block].g[p].size(); ++v) {
+        for (std::size_t k = 0; k < 3; ++k) grad_vertices.g[p][v][k] += parts[block].g[p][v][k];
+      }
+      if (attribute) continue;
+      for (std::size_t sl = 0; sl < g_slot[p].size(); ++sl) {
+        for (std::size_t k = 0; k < 3; ++k) g_slot[p][sl][k] += slot_parts[block][p][sl][k];
       }
     }
-    const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
-    const int j = static_cast<int>(px / static_cast<std::size_t>(frame.width));
-    Vec3 ga{}, gbv{}, gc{};
-    barycentrics_vjp(clip, i, j, m.vertices[static_cast<std::size_t>(tri[0])],
-                     m.vertices[static_cast<std::size_t>(tri[1])],
-                     m.vertices[static_cast<std::size_t>(tri[2])], gb, ga, gbv, gc);
-    grad_vertices.add(prim, tri[0], ga, px);
-    grad_vertices.add(prim, tri[1], gbv, px);
-    grad_vertices.add(prim, tri[2], gc, px);
   }
   if (attribute) return;
+  VertexGradient& out = grad_vertices;
   for (std::size_t p = 0; p < g_slot.size(); ++p) {
-    for (std::size_t s = 0; s < g_slot[p].size(); ++s) {
-      const Vec3& gn = g_slot[p][s];
-      if (gn[0] != 0 || gn[1] != 0 || gn[2] != 0) slot_backward(p, s, gn, 0);
+    for (std::size_t sl = 0; sl < g_slot[p].size(); ++sl) {
+      const Vec3& gn = g_slot[p][sl];
+      if (gn[0] != 0 || gn[1] != 0 || gn[2] != 0) slot_backward(out, p, sl, gn, 0);
     }
   }
 }

@@ -54,6 +54,10 @@ struct AaPair {
 Image antialias(const Scene& scene, const Topology& topology, const Camera& camera,
                 const Frame& frame, const Image& colour, std::vector<AaPair>* pairs = nullptr,
                 const std::vector<IntersectionEdge>* edges = nullptr);
+// The same into `out`, reusing its memory.
+void antialias(const Scene& scene, const Topology& topology, const Camera& camera,
+               const Frame& frame, const Image& colour, Image& out, std::vector<AaPair>* pairs,
+               const std::vector<IntersectionEdge>* edges);
 
 // Given dL/d(antialiased image), adds dL/dcolour (sized like colour) and dL/dvertex (world
 // coordinates, [primitive][vertex]) through α's dependence on the edges' endpoints; for an

@@ -39,8 +39,8 @@ struct VertexGradient {
     Vec3& out = g[static_cast<std::size_t>(primitive)][static_cast<std::size_t>(vertex)];
     for (std::size_t k = 0; k < 3; ++k) out[k] += grad[k];
     if (tangent && per_pixel) {
-      (*per_pixel)[pixel] +=
-          dot(grad, (*tangent)[static_cast<std::size_t>(primitive)][static_cast<std::size_t>(vertex)]);
+      (*per_pixel)[pixel] += dot(
+          grad, (*tangent)[static_cast<std::size_t>(primitive)][static_cast<std::size_t>(vertex)]);
     }
   }
 };

@@ -29,14 +29,17 @@ PreparedScene prepare_scene(Scene scene, bool intersection_aa = true);
 struct ViewPass {
   Frame frame;
   ShadeRecord record;
-  Image shaded;              // before antialiasing
+  Image shaded;  // before antialiasing
   std::vector<AaPair> pairs;
-  Image image;               // the result
+  Image image;                                           // the result
   double seconds_visibility = 0, seconds_antialias = 0;  // antialias: shading included
 };
 
 ViewPass render_view(const PreparedScene& scene, const Camera& camera, Shading shading,
                      int threads = 0);
+// The same into `pass`, reusing its memory (a refinement draws the same views again and again).
+void render_view(const PreparedScene& scene, const Camera& camera, Shading shading, int threads,
+                 ViewPass& pass);
 
 // Given dL/d(pass.image), adds dL/d(world vertices).
 void render_view_backward(const PreparedScene& scene, const Camera& camera, Shading shading,
@@ -52,8 +55,8 @@ Image render_image(const PreparedScene& scene, const Camera& camera, Shading sha
 // [0, 2 pi), as DiffCSG's random views).
 std::vector<Camera> orbit_views(const Vec3& centre, double distance, int n, double elevation,
                                 int width, int height, double fov_deg);
-Camera random_view(const Vec3& centre, double distance, double u1, double u2, int width,
-                   int height, double fov_deg);
+Camera random_view(const Vec3& centre, double distance, double u1, double u2, int width, int height,
+                   double fov_deg);
 // The distance at which a sphere about `centre` through the scene's bounding box fills a
 // field of view of `fov_deg` (with a margin of `margin`).
 double framing_distance(const Scene& scene, const Vec3& centre, double fov_deg,

@@ -49,11 +49,15 @@ struct RefineTarget {
   std::function<Image(const Camera&)> render;  // may be empty (images)
 };
 
+// Each parameter's natural scale, for steps relative to it: its magnitude, or where it is 0,
+// 10 degrees for an angle (a name ending in rotate[k]) and 5% of the model's extent otherwise.
+std::vector<double> parameter_scales(const Tree& tree,
+                                     const TessellationOptions& tessellation = {});
+
 // Adam on the gradients of the differentiable renderer (DiffCSG), or CMA-ES on the loss alone
 // (optim/cmaes.hpp, DiffCSG §4.3's derivative-free baseline): it minimises the mean loss over the
 // fixed views, counts one step per evaluation (a render of every fixed view), and searches
-// every free parameter from steps of cmaes_sigma times its magnitude (parameters at 0: 10
-// degrees for angles, 5% of the model's extent otherwise).
+// every free parameter from steps of cmaes_sigma times its natural scale (parameter_scales).
 enum class Method { kAdam, kCmaes };
 
 struct RefineOptions {
@@ -61,6 +65,9 @@ struct RefineOptions {
   double cmaes_sigma = 0.1;
   int iterations = 1000;
   double lr = 0.01;
+  // If > 0, each parameter's learning rate is lr_relative times its natural scale
+  // (parameter_scales) instead of lr: one setting for models in any unit.
+  double lr_relative = 0;
   double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
   Loss loss = Loss::kL2;
   bool intersection_aa = true;
@@ -91,7 +98,8 @@ struct RefineResult {
 
 // Refines `model` (unified operators are snapped first). Throws InputError for targets whose
 // images do not match their cameras' sizes, and for random views without a way to render.
-RefineResult refine(const Tree& model, const RefineTarget& target, const RefineOptions& options = {},
+RefineResult refine(const Tree& model, const RefineTarget& target,
+                    const RefineOptions& options = {},
                     const TessellationOptions& tessellation = {});
 
 }  // namespace fuzzycsg::diffcsg

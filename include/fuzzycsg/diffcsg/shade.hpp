@@ -39,7 +39,7 @@ std::array<float, 3> primitive_colour(int p);
 // The shading normals of every triangle corner, and how they were formed.
 struct CornerNormals {
   struct Primitive {
-    std::vector<std::array<int, 3>> corner_slot;  // per triangle corner: its normal's slot
+    std::vector<std::array<int, 3>> corner_slot;   // per triangle corner: its normal's slot
     std::vector<std::vector<int>> slot_triangles;  // the faces summed in each slot
     std::vector<Vec3> slot_sum;                    // their area-weighted normal sum
     std::vector<Vec3> slot_normal;                 // normalised (0 if the sum is 0)
@@ -55,13 +55,15 @@ CornerNormals corner_normals(const Scene& scene);
 
 // What the backward pass needs of the forward one.
 struct ShadeRecord {
-  std::vector<std::array<double, 3>> barycentric;  // per pixel (visible pixels)
-  std::vector<std::int8_t> flip;                   // -1 where a back face is seen
+  std::vector<std::int8_t> flip;  // per pixel: -1 where a back face is seen
 };
 
-// The 3-channel image of the frame's visible surface.
+// The 3-channel image of the frame's visible surface; the second form writes into `out`,
+// reusing its memory.
 Image shade(const Scene& scene, const CornerNormals& normals, const Camera& camera,
             const Frame& frame, Shading shading, ShadeRecord* record = nullptr);
+void shade(const Scene& scene, const CornerNormals& normals, const Camera& camera,
+           const Frame& frame, Shading shading, Image& out, ShadeRecord* record);
 
 // Given dL/d(shaded image), adds dL/d(world vertices) (nothing for colours).
 void shade_backward(const Scene& scene, const CornerNormals& normals, const Camera& camera,
