@@ -94,8 +94,9 @@ class Builder {
     Node n;
     n.kind = NodeKind::kPrimitive;
     n.shape.type = family;
-    if (family == PrimitiveType::kPolygon) {
-      throw InputError("make_full_binary_tree: the polygon family is not supported");
+    if (family == PrimitiveType::kPolygon || family == PrimitiveType::kExtrude) {
+      throw InputError("make_full_binary_tree: the " + std::string(info.name) +
+                       " family is not supported");
     }
     if (family == PrimitiveType::kMlp) n.shape.hidden = {16, 16};
     for (const FieldSpec& f : info.fields) {

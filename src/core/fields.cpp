@@ -60,6 +60,41 @@ const FieldSpec& complement_lambda(Complement c) {
   return c == Complement::kYager ? kYagerLambda : kSugenoLambda;
 }
 
+PointsRule points_rule(PrimitiveType type) {
+  if (type == PrimitiveType::kExtrude) {
+    return {kExtrudeMinPoints, kExtrudePointsPerSegment, "point", "points", "segment", "P, A, B"};
+  }
+  return {kPolygonMinVertices, 1, "vertex", "vertices", "", ""};
+}
+
+std::string points_problem(PrimitiveType type, std::size_t count) {
+  const PointsRule rule = points_rule(type);
+  const std::string got = " (got " + std::to_string(count) + ")";
+  const std::string points(rule.points);
+  if (count % static_cast<std::size_t>(rule.multiple) != 0) {
+    return "needs " + std::to_string(rule.multiple) + " " + points + " (" +
+           std::string(rule.group_points) + ") per " + std::string(rule.group) + got;
+  }
+  if (count < static_cast<std::size_t>(rule.min_points)) {
+    std::string s = "needs at least " + std::to_string(rule.min_points) + " " + points;
+    if (rule.multiple > 1) {
+      s += ", " + std::to_string(rule.min_points / rule.multiple) + " " + std::string(rule.group) +
+           "s";
+    }
+    return s + got;
+  }
+  return {};
+}
+
+std::size_t variable_count(const PrimitiveInfo& info, std::size_t intrinsic) {
+  std::size_t fixed = 0;
+  for (const FieldSpec& f : info.fields) {
+    if (f.arity == Arity::kScalar) fixed += 1;
+    if (f.arity == Arity::kFixed) fixed += static_cast<std::size_t>(f.length);
+  }
+  return intrinsic > fixed ? intrinsic - fixed : 0;
+}
+
 Range intersect(const Range& a, const Range& b) {
   Range r;
   if (a.lo > b.lo || (a.lo == b.lo && a.lo_open)) {

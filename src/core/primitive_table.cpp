@@ -35,8 +35,13 @@ constexpr std::array kHalfPlane{vec("normal", 2, Range::any()), scalar("offset",
 constexpr std::array kPolygon{
     FieldSpec{"vertices", Arity::kPoints2, 0, Range::any(), std::nullopt, false}};
 constexpr std::array kQuadric2{vec("coefficients", 6, Range::any())};
+// The profile's control points P0, A0, B0, P1, ... (bezier.hpp), then the height.
+constexpr std::array kExtrude{
+    FieldSpec{"profile", Arity::kPoints2, 0, Range::any(), std::nullopt, false},
+    scalar("height", Range::positive())};
 
-const std::array<PrimitiveInfo, 16> kTable{{
+// Indexed by PrimitiveType.
+const std::array<PrimitiveInfo, 17> kTable{{
     {PrimitiveType::kSphere, "sphere", 3, kSphere, true, 50.0},
     {PrimitiveType::kBox, "box", 3, kBox, true, 50.0},
     {PrimitiveType::kCylinder, "cylinder", 3, kCylinder, true, 50.0},
@@ -53,6 +58,7 @@ const std::array<PrimitiveInfo, 16> kTable{{
     {PrimitiveType::kHalfPlane, "half-plane", 2, kHalfPlane, true, 50.0},
     {PrimitiveType::kPolygon, "polygon", 2, kPolygon, true, 50.0},
     {PrimitiveType::kQuadric2, "quadric", 2, kQuadric2, false, 1.0},
+    {PrimitiveType::kExtrude, "extrude", 3, kExtrude, true, 50.0},
 }};
 
 }  // namespace

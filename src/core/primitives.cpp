@@ -11,10 +11,12 @@
 // is one of the one-sided gradients, or 0 where the distance is a norm at its minimum; ties go
 // to the first candidate in the order written. Never NaN for parameters in their ranges.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
+#include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/primitives.hpp"
 
@@ -33,7 +35,7 @@ T sign_of(T x) {
   return x < T(0) ? T(-1) : T(1);
 }
 
-// Number of parameters of the fixed-size families (the polygon and the MLP vary).
+// Number of parameters of the fixed-size families (the polygon, the extrude and the MLP vary).
 [[maybe_unused]] constexpr int fixed_param_count(PrimitiveType t) {
   switch (t) {
     case PrimitiveType::kSphere:
@@ -66,6 +68,7 @@ T sign_of(T x) {
       return 6;
     case PrimitiveType::kMlp:
     case PrimitiveType::kPolygon:
+    case PrimitiveType::kExtrude:
       return -1;
   }
   return -1;
@@ -474,29 +477,46 @@ T quadric2(std::span<const T> q, const T* p, T* dp, T* dq) {
 // side of p and the inside test, both decided by the same cross product), which stays exact as
 // p approaches the edge; exactly on an edge g is the normal pointing away from the side with
 // the larger signed area.
+//
+// polygon_distance does this for any source of vertices: the polygon family reads them from
+// its parameters, the extrude family computes them from its Bézier profile. Each vertex is
+// fetched once, in order.
 
 template <class T>
-T polygon_sdf(std::span<const T> v, const T* p, T* dp, T* dv) {
-  FUZZYCSG_ASSERT(v.size() >= 2 && v.size() % 2 == 0);
-  const std::size_t n = v.size() / 2;
-  if (n == 0) {
-    if (dp != nullptr) dp[0] = dp[1] = T(0);
-    return std::numeric_limits<T>::max();
-  }
+struct PolygonDistance {
+  T f = T(0);
+  T gx = T(0);  // df/dp (when asked for)
+  T gy = T(0);
+  std::size_t a = 0;  // the nearest edge a -> b and the nearest point's parameter t on it
+  std::size_t b = 0;
+  T t = T(0);
+};
+
+// `vertex(i, xy)` writes vertex i (0 <= i < n, n >= 1) into xy[0..2).
+template <class T, class Vertex>
+PolygonDistance<T> polygon_distance(std::size_t n, const Vertex& vertex, const T* p, bool grad) {
   const T px = p[0];
   const T py = p[1];
   T best = std::numeric_limits<T>::infinity();
   std::size_t best_edge = 0;
   T best_t = T(0);
   T best_cross = T(0);
+  T best_ax = T(0);
+  T best_ay = T(0);
+  T best_ex = T(0);
+  T best_ey = T(0);
   bool best_interior = false;
   bool inside = false;
   T area2 = T(0);
+  T prev[2];
+  vertex(n - 1, prev);
   for (std::size_t b = 0, a = n - 1; b < n; a = b++) {
-    const T ax = v[2 * a];
-    const T ay = v[2 * a + 1];
-    const T bx = v[2 * b];
-    const T by = v[2 * b + 1];
+    T cur[2];
+    vertex(b, cur);
+    const T ax = prev[0];
+    const T ay = prev[1];
+    const T bx = cur[0];
+    const T by = cur[1];
     const T ex = bx - ax;
     const T ey = by - ay;
     const T wx = px - ax;
@@ -513,47 +533,147 @@ T polygon_sdf(std::span<const T> v, const T* p, T* dp, T* dv) {
       best_edge = a;
       best_t = t;
       best_cross = cross;
+      best_ax = ax;
+      best_ay = ay;
+      best_ex = ex;
+      best_ey = ey;
       best_interior = t_line > T(0) && t_line < T(1);
     }
     // Crossing of the ray from p towards +x (half-open in y so that shared vertices count once).
     const bool straddles = (ay <= py) != (by <= py);
     if (straddles && ((cross > T(0)) == (by > ay))) inside = !inside;
     area2 += ax * by - bx * ay;
+    prev[0] = cur[0];
+    prev[1] = cur[1];
   }
-  const std::size_t a = best_edge;
-  const std::size_t b = a + 1 == n ? 0 : a + 1;
-  const T ex = v[2 * b] - v[2 * a];
-  const T ey = v[2 * b + 1] - v[2 * a + 1];
+  PolygonDistance<T> out;
+  out.a = best_edge;
+  out.b = best_edge + 1 == n ? 0 : best_edge + 1;
+  out.t = best_t;
+  const T ex = best_ex;
+  const T ey = best_ey;
   const T len = std::sqrt(ex * ex + ey * ey);
   const T dist = best_interior ? std::abs(best_cross) / len : std::sqrt(best);
-  const T f = inside ? -dist : dist;
-  if (dp == nullptr) return f;
+  out.f = inside ? -dist : dist;
+  if (!grad) return out;
 
   const T s_out = inside ? T(-1) : T(1);
-  T gx = T(0);
-  T gy = T(0);
   if (best_interior && best_cross != T(0)) {
     // Along the left normal (-ey, ex) when p is left of the edge.
     const T k = (best_cross > T(0) ? s_out : -s_out) / len;
-    gx = -ey * k;
-    gy = ex * k;
+    out.gx = -ey * k;
+    out.gy = ex * k;
   } else if (!best_interior && best > T(0)) {
     const T k = s_out / std::sqrt(best);
-    gx = (p[0] - (v[2 * a] + best_t * ex)) * k;
-    gy = (p[1] - (v[2 * a + 1] + best_t * ey)) * k;
+    out.gx = (px - (best_ax + best_t * ex)) * k;
+    out.gy = (py - (best_ay + best_t * ey)) * k;
   } else if (len > T(0)) {
     // On the boundary: counter-clockwise outlines have their inside on the left.
     const T k = (area2 < T(0) ? T(-1) : T(1)) / len;
-    gx = ey * k;
-    gy = -ex * k;
+    out.gx = ey * k;
+    out.gy = -ex * k;
   }
+  return out;
+}
+
+template <class T>
+T polygon_sdf(std::span<const T> v, const T* p, T* dp, T* dv) {
+  FUZZYCSG_ASSERT(v.size() >= 2 && v.size() % 2 == 0);
+  const std::size_t n = v.size() / 2;
+  if (n == 0) {
+    if (dp != nullptr) dp[0] = dp[1] = T(0);
+    return std::numeric_limits<T>::max();
+  }
+  const auto vertex = [&](std::size_t i, T* xy) {
+    xy[0] = v[2 * i];
+    xy[1] = v[2 * i + 1];
+  };
+  const PolygonDistance<T> d = polygon_distance(n, vertex, p, dp != nullptr);
+  if (dp == nullptr) return d.f;
+  dp[0] = d.gx;
+  dp[1] = d.gy;
+  std::fill(dv, dv + v.size(), T(0));
+  dv[2 * d.a] -= (T(1) - d.t) * d.gx;
+  dv[2 * d.a + 1] -= (T(1) - d.t) * d.gy;
+  dv[2 * d.b] -= d.t * d.gx;
+  dv[2 * d.b + 1] -= d.t * d.gy;
+  return d.f;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Extrude: a closed profile of cubic Bézier segments (bezier.hpp) in the xy plane, extruded
+// over z in [-h/2, h/2]. theta: the profile's 6n numbers (P0, A0, B0, P1, ...), then h.
+//
+// The profile is the polygon of kBezierSamples samples per segment (bezier_profile's, bit for
+// bit), and f is the exact signed distance of the prism over it: with d the polygon's signed
+// distance (polygon_distance) and w = (d, |z| - h/2), f = min(max(w.x, w.y), 0) + |max(w, 0)|.
+// Inside (both <= 0) f is the larger of the two, ties to d (the wall); outside, the length of
+// the positive part. So f inherits the polygon's convention for outlines that cross themselves:
+// |d| is the distance to the polyline and the inside is the even-odd rule (where two loops
+// overlap is outside); f is then still 1-Lipschitz.
+//
+// Gradients: df/dp = (gd g, gz sign(z)) with g the polygon's unit gradient; df/dh = -gz / 2;
+// a polygon vertex moved by dv changes d by -(1 - t) g.dv or -t g.dv at the nearest edge's ends,
+// and a vertex is the sum of its segment's four control points times the sample's Bernstein
+// weights, so each end passes its gradient to four control points by those weights.
+
+constexpr std::array<std::array<double, 4>, kBezierSamples> kSampleWeights = [] {
+  std::array<std::array<double, 4>, kBezierSamples> w{};
+  for (int s = 0; s < kBezierSamples; ++s) {
+    w[static_cast<std::size_t>(s)] = bezier_sample_weights(s, kBezierSamples);
+  }
+  return w;
+}();
+
+template <class T>
+T extrude_sdf(std::span<const T> th, const T* p, T* dp, T* dth) {
+  FUZZYCSG_ASSERT(th.size() >= 13 && (th.size() - 1) % 6 == 0);
+  const std::size_t nc = th.size() - 1;
+  const std::size_t segments = nc / 6;
+  const std::span<const T> control = th.first(nc);
+  constexpr auto kPer = static_cast<std::size_t>(kBezierSamples);
+  const auto vertex = [&](std::size_t i, T* xy) {
+    bezier_point(control, i / kPer, kSampleWeights[i % kPer], xy);
+  };
+  const PolygonDistance<T> d = polygon_distance(segments * kPer, vertex, p, dp != nullptr);
+  const T wd = d.f;
+  const T wz = std::abs(p[2]) - T(0.5) * th[nc];
+  T gd = T(0);  // df/dd
+  T gz = T(0);  // df/d|z|
+  T f;
+  if (wd >= wz && wd <= T(0)) {
+    f = wd;
+    gd = T(1);
+  } else if (wz > wd && wz <= T(0)) {
+    f = wz;
+    gz = T(1);
+  } else {
+    const T od = std::max(wd, T(0));
+    const T oz = std::max(wz, T(0));
+    f = std::sqrt(sq(od) + sq(oz));
+    gd = od / f;
+    gz = oz / f;
+  }
+  if (dp == nullptr) return f;
+  const T gx = gd * d.gx;
+  const T gy = gd * d.gy;
   dp[0] = gx;
   dp[1] = gy;
-  std::fill(dv, dv + v.size(), T(0));
-  dv[2 * a] -= (T(1) - best_t) * gx;
-  dv[2 * a + 1] -= (T(1) - best_t) * gy;
-  dv[2 * b] -= best_t * gx;
-  dv[2 * b + 1] -= best_t * gy;
+  dp[2] = gz * sign_of(p[2]);
+  std::fill(dth, dth + th.size(), T(0));
+  const std::size_t ends[2] = {d.a, d.b};
+  const T share[2] = {T(1) - d.t, d.t};
+  for (int e = 0; e < 2; ++e) {
+    const std::size_t k = ends[e] / kPer;
+    const auto& w = kSampleWeights[ends[e] % kPer];
+    for (int j = 0; j < 4; ++j) {
+      const T c = static_cast<T>(w[static_cast<std::size_t>(j)]) * share[e];
+      const std::size_t at = 2 * bezier_control_index(segments, k, j);
+      dth[at] -= c * gx;
+      dth[at + 1] -= c * gy;
+    }
+  }
+  dth[nc] = T(-0.5) * gz;
   return f;
 }
 
@@ -774,6 +894,8 @@ T evaluate(const PrimitiveShape& shape, std::span<const T> theta, const T* p, T*
       return ellipse_sdf(theta, p, dp, dtheta);
     case PrimitiveType::kMlp:
       return mlp_value(std::span<const int>(shape.hidden), theta, p, dp, dtheta);
+    case PrimitiveType::kExtrude:
+      return extrude_sdf(theta, p, dp, dtheta);
   }
   FUZZYCSG_ASSERT(false);
   return T(0);

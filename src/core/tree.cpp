@@ -326,17 +326,17 @@ class Validator {
                      std::to_string(theta.size() - offset) + ")");
           }
           break;
-        case Arity::kPoints2:  // the polygon's vertices
-          count = theta.size() - offset;
+        case Arity::kPoints2: {  // the polygon's vertices, the extrude's profile
+          count = fields::variable_count(info, theta.size());
           if (count % 2 != 0) {
-            fail(i, name, "needs 2 numbers per vertex (got " + std::to_string(count) + " numbers)");
-          }
-          if (count < 2 * static_cast<std::size_t>(fields::kPolygonMinVertices)) {
             fail(i, name,
-                 "needs at least " + std::to_string(fields::kPolygonMinVertices) +
-                     " vertices (got " + std::to_string(count / 2) + ")");
+                 "needs 2 numbers per " + std::string(fields::points_rule(info.type).point) +
+                     " (got " + std::to_string(count) + " numbers)");
           }
+          const std::string problem = fields::points_problem(info.type, count / 2);
+          if (!problem.empty()) fail(i, name, problem);
           break;
+        }
       }
       if (offset + count > theta.size()) {
         fail(i, "",

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzzycsg/core/fields.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/diagram/diagram.hpp"
 
@@ -76,14 +77,21 @@ class Labeller {
     for (const FieldSpec& f : info.fields) {
       std::size_t len = 1;
       if (f.arity == Arity::kFixed) len = static_cast<std::size_t>(f.length);
-      if (f.arity == Arity::kList || f.arity == Arity::kPoints2) len = all.size() - at;
+      if (f.arity == Arity::kList || f.arity == Arity::kPoints2) {
+        len = fields::variable_count(info, all.size());
+      }
       len = std::min(len, all.size() - at);
       const auto refs = all.subspan(at, len);
       at += len;
       if (f.arity == Arity::kScalar && len == 1) {
         lines.push_back(scalar(f.name, refs[0]));
       } else if (f.arity == Arity::kPoints2) {
-        lines.push_back(fmt::format("{} vertices", len / 2));
+        const fields::PointsRule rule = fields::points_rule(n.shape.type);
+        if (rule.multiple > 1) {  // the extrude's profile: its segments
+          lines.push_back(fmt::format("{} {} {}s", f.name, len / 2 / rule.multiple, rule.group));
+        } else {
+          lines.push_back(fmt::format("{} {}", len / 2, rule.points));
+        }
       } else if (f.arity == Arity::kList) {
         std::string hidden;
         for (std::size_t i = 0; i < n.shape.hidden.size(); ++i) {

@@ -117,7 +117,9 @@ void validate(const FitOptions& o, int dim) {
       bad_flag("--family", fmt::format("{} is a {}D primitive but the target is {}D", info.name,
                                        info.dim, dim));
     }
-    if (f == PrimitiveType::kPolygon) bad_flag("--family", "polygon cannot be fitted");
+    if (f == PrimitiveType::kPolygon || f == PrimitiveType::kExtrude) {
+      bad_flag("--family", fmt::format("{} cannot be fitted", info.name));
+    }
   }
   if (!(o.init_range > 0) || !std::isfinite(o.init_range)) {
     bad_flag("--init-range", fmt::format("must be > 0 (got {})", o.init_range));

@@ -610,14 +610,13 @@ class Reader {
           node.intrinsic.insert(node.intrinsic.end(), refs.begin(), refs.end());
           break;
         }
-        case Arity::kPoints2: {  // the polygon's vertices
+        case Arity::kPoints2: {  // the polygon's vertices, the extrude's profile
           if (!f->is_array()) {
-            fail(p, "expected an array of [x, y] vertices (got " + describe(*f) + ")");
+            fail(p, "expected an array of [x, y] " + std::string(fields::points_rule(*t).points) +
+                        " (got " + describe(*f) + ")");
           }
-          if (f->size() < static_cast<std::size_t>(fields::kPolygonMinVertices)) {
-            fail(p, "needs at least " + std::to_string(fields::kPolygonMinVertices) +
-                        " vertices (got " + std::to_string(f->size()) + ")");
-          }
+          const std::string problem = fields::points_problem(*t, f->size());
+          if (!problem.empty()) fail(p, problem);
           for (std::size_t k = 0; k < f->size(); ++k) {
             const Json& vertex = (*f)[k];
             if (!vertex.is_array() || vertex.size() != 2) {
@@ -1027,16 +1026,18 @@ class Writer {
           field(f.name, entries(theta));
           theta = {};
           break;
-        case Arity::kPoints2:
+        case Arity::kPoints2: {  // one [x, y] point per line
+          const auto points = theta.first(fields::variable_count(info, node.intrinsic.size()));
           printer_.key(f.name);
           printer_.begin_array();
-          for (std::size_t k = 0; k + 1 < theta.size(); k += 2) {
+          for (std::size_t k = 0; k + 1 < points.size(); k += 2) {
             printer_.item();
-            printer_.raw(entries(theta.subspan(k, 2)));
+            printer_.raw(entries(points.subspan(k, 2)));
           }
           printer_.end_array();
-          theta = {};
+          theta = theta.subspan(points.size());
           break;
+        }
       }
     }
     const Placement& placement = node.placement;

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/placement.hpp"
@@ -673,6 +674,18 @@ struct Writer {
           pts += fmt::format("{}[{}, {}]", v ? ", " : "", num(th[v]), num(th[v + 1]));
         }
         l.add(0, "polygon([" + pts + "]);");
+        break;
+      }
+      case PrimitiveType::kExtrude: {
+        // The prism over the profile's polygon, the one the implicit function uses.
+        const std::span<const double> all(th);
+        const std::vector<double> polygon = bezier_profile(all.first(th.size() - 1));
+        std::string pts;
+        for (std::size_t v = 0; v + 1 < polygon.size(); v += 2) {
+          pts += fmt::format("{}[{}, {}]", v ? ", " : "", num(polygon[v]), num(polygon[v + 1]));
+        }
+        l.add(0, fmt::format("linear_extrude(height = {}, center = true) polygon([{}]);",
+                             num(th.back()), pts));
         break;
       }
       case PrimitiveType::kPlane:

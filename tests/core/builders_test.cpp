@@ -117,6 +117,14 @@ TEST(Builders, RejectsBadOptions) {
   EXPECT_NO_THROW(make_full_binary_tree(o));
   o.family = PrimitiveType::kPolygon;
   EXPECT_THROW(make_full_binary_tree(o), InputError);
+  o.dim = 3;
+  o.family = PrimitiveType::kExtrude;
+  try {
+    make_full_binary_tree(o);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "make_full_binary_tree: the extrude family is not supported");
+  }
 }
 
 }  // namespace

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include "fuzzycsg/core/bezier.hpp"
+
 namespace fuzzycsg {
 namespace {
 
@@ -29,7 +31,7 @@ constexpr std::array kAllTypes{
     PrimitiveType::kQuadric3, PrimitiveType::kEllipsoid, PrimitiveType::kCapsule,
     PrimitiveType::kMlp,      PrimitiveType::kCircle,    PrimitiveType::kRectangle,
     PrimitiveType::kEllipse,  PrimitiveType::kHalfPlane, PrimitiveType::kPolygon,
-    PrimitiveType::kQuadric2,
+    PrimitiveType::kQuadric2, PrimitiveType::kExtrude,
 };
 
 // Families whose f is an exact Euclidean signed distance (the ellipse included: it is solved
@@ -141,6 +143,52 @@ Vec random_polygon(std::mt19937& rng) {
   return v;
 }
 
+// A closed Bézier profile of 2 to 4 segments: its 3n points spread around the origin (a
+// star-shaped control polygon, either orientation).
+Vec random_profile(std::mt19937& rng) {
+  const int segments = std::uniform_int_distribution<int>(2, 4)(rng);
+  const int points = 3 * segments;
+  const double turn = uniform(rng, 0.0, 1.0) < 0.5 ? 1.0 : -1.0;
+  Vec c;
+  for (int i = 0; i < points; ++i) {
+    const double a = turn * 2.0 * kPi * (i + uniform(rng, 0.15, 0.85)) / points;
+    const double r = uniform(rng, 0.5, 1.0);
+    c.push_back(r * std::cos(a));
+    c.push_back(r * std::sin(a));
+  }
+  return c;
+}
+
+// The extrude's parameters: a profile, then the height.
+Vec extrude_theta(Vec profile, double height) {
+  profile.push_back(height);
+  return profile;
+}
+
+// The profile of the closed polygon `corners` with each edge a straight Bézier segment (its
+// controls at the edge's thirds).
+Vec straight_profile(const Vec& corners) {
+  const std::size_t n = corners.size() / 2;
+  Vec c;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t m = (k + 1) % n;
+    for (int j = 0; j < 3; ++j) {
+      c.push_back(corners[2 * k] + j * (corners[2 * m] - corners[2 * k]) / 3.0);
+      c.push_back(corners[2 * k + 1] + j * (corners[2 * m + 1] - corners[2 * k + 1]) / 3.0);
+    }
+  }
+  return c;
+}
+
+// The profile (without the height) of an extrude's parameters.
+Vec profile_of(const Vec& theta) { return Vec(theta.begin(), theta.end() - 1); }
+
+// The exact prism distance from a 2D signed distance d and the height h.
+double prism(double d, double z, double h) {
+  const double wz = std::abs(z) - 0.5 * h;
+  return std::min(std::max(d, wz), 0.0) + std::hypot(std::max(d, 0.0), std::max(wz, 0.0));
+}
+
 Instance random_instance(PrimitiveType t, std::mt19937& rng) {
   auto u = [&](double lo, double hi) { return uniform(rng, lo, hi); };
   switch (t) {
@@ -197,6 +245,8 @@ Instance random_instance(PrimitiveType t, std::mt19937& rng) {
       for (double& x : q) x = u(-1.0, 1.0);
       return make(t, q);
     }
+    case PrimitiveType::kExtrude:
+      return make(t, extrude_theta(random_profile(rng), u(0.5, 2.0)));
   }
   return {};
 }
@@ -410,6 +460,83 @@ TEST(PrimitiveValues, Polygon) {
   EXPECT_GT(value(bow, {1.0, 0.3}), 0.0);
 }
 
+// A profile with straight segments (controls at the thirds of the edges) is its polygon: for a
+// square it is the box, value and gradient, also with respect to the height and (summed over
+// the control points of a side) the size.
+TEST(PrimitiveValues, ExtrudeOfAStraightSquareIsTheBox) {
+  const double a = 0.6, h = 0.8;
+  const Vec square = straight_profile({-a, -a, a, -a, a, a, -a, a});
+  for (const Vec& profile : {square, straight_profile({-a, -a, -a, a, a, a, a, -a})}) {
+    const Instance ex = make(PrimitiveType::kExtrude, extrude_theta(profile, h));
+    const Instance box = make(PrimitiveType::kBox, {2 * a, 2 * a, h});
+    std::mt19937 rng(53);
+    for (int k = 0; k < 400; ++k) {
+      const Vec p = random_point(rng, 3, k % 2 == 0 ? 0.7 : 1.5);
+      const Grad ge = gradient(ex, p);
+      const Grad gb = gradient(box, p);
+      ASSERT_NEAR(ge.f, gb.f, 1e-14) << p[0] << " " << p[1] << " " << p[2];
+      for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(ge.dp[i], gb.dp[i], 1e-12) << i;
+      EXPECT_NEAR(ge.dtheta.back(), gb.dtheta[2], 1e-12);
+      // Moving the sides x = +-a (y = +-a) apart by 2 delta is the box's size[0] (size[1])
+      // growing by 2 delta.
+      for (std::size_t axis = 0; axis < 2; ++axis) {
+        double apart = 0.0;
+        for (std::size_t c = 0; c < profile.size() / 2; ++c) {
+          const double x = profile[2 * c + axis];
+          if (x == a) apart += ge.dtheta[2 * c + axis];
+          if (x == -a) apart -= ge.dtheta[2 * c + axis];
+        }
+        EXPECT_NEAR(apart, 2 * gb.dtheta[axis], 1e-12) << axis;
+      }
+    }
+  }
+}
+
+// An L and a star with straight segments: the prism over the polygon family's distance.
+TEST(PrimitiveValues, ExtrudeOfStraightEdgesIsThePolygonPrism) {
+  std::mt19937 rng(59);
+  const Vec l_shape = {0, 0, 1.2, 0, 1.2, 0.5, 0.5, 0.5, 0.5, 1.2, 0, 1.2};
+  Vec star;
+  for (int i = 0; i < 10; ++i) {
+    const double r = i % 2 == 0 ? 1.0 : 0.4;
+    star.push_back(r * std::cos(kPi * i / 5));
+    star.push_back(r * std::sin(kPi * i / 5));
+  }
+  for (const Vec& corners : {l_shape, star}) {
+    const double h = 0.7;
+    const Instance ex = make(PrimitiveType::kExtrude, extrude_theta(straight_profile(corners), h));
+    const Instance poly = make(PrimitiveType::kPolygon, corners);
+    for (int k = 0; k < 300; ++k) {
+      const Vec p = random_point(rng, 3, 1.3);
+      EXPECT_NEAR(value(ex, p), prism(value(poly, {p[0], p[1]}), p[2], h), 1e-14);
+    }
+  }
+}
+
+// A curved profile: the prism over bezier_profile's polygon, which interpolates every P_k.
+TEST(PrimitiveValues, ExtrudeIsThePrismOverTheSampledProfile) {
+  std::mt19937 rng(61);
+  const Vec d_shape = {0, -1, 0, -1.0 / 3, 0, 1.0 / 3, 0, 1, 1.3, 1, 1.3, -1};
+  const double h = 0.5;
+  const Instance ex = make(PrimitiveType::kExtrude, extrude_theta(d_shape, h));
+  const Instance poly = make(PrimitiveType::kPolygon, bezier_profile(d_shape));
+  for (int k = 0; k < 300; ++k) {
+    const Vec p = random_point(rng, 3, 1.4);
+    EXPECT_NEAR(value(ex, p), prism(value(poly, {p[0], p[1]}), p[2], h), 1e-15);
+  }
+  EXPECT_NEAR(value(ex, {-0.3, 0.2, 0.1}), 0.3, 1e-15);    // beside the straight side
+  EXPECT_NEAR(value(ex, {0.3, 0.0, 0.45}), 0.2, 1e-15);    // above the top cap
+  EXPECT_NEAR(value(ex, {0.2, 0.1, -0.2}), -0.05, 1e-15);  // nearest the bottom cap
+  EXPECT_NEAR(value(ex, {0.1, 0.0, 0.0}), -0.1, 1e-15);    // nearest the straight side
+  EXPECT_NEAR(value(ex, {-0.3, 0.0, 0.65}), 0.5, 1e-15);   // beyond the rim: |(0.3, 0.4)|
+  EXPECT_NEAR(value(ex, {0, 1, 0.1}), 0.0, 1e-15);         // on P1
+  // The curved side x(t) = 3.9 t (1 - t) crosses y = 0 at t = 1/2, between its samples at
+  // t = 7/15 and 8/15 (y = +-337/3375): the polygon's chord there is at x = 3.9 * 56 / 225,
+  // inside the curve's 0.975.
+  EXPECT_NEAR(value(ex, {3.9 * 56 / 225, 0.0, 0.0}), 0.0, 1e-15);
+  EXPECT_NEAR(value(ex, {0.975, 0.0, 0.0}), 0.975 - 3.9 * 56 / 225, 1e-12);
+}
+
 TEST(PrimitiveValues, ValueAndGradAgree) {
   std::mt19937 rng(7);
   for (PrimitiveType t : kAllTypes) {
@@ -525,6 +652,26 @@ SurfacePoint surface_point(PrimitiveType t, const Vec& th, std::mt19937& rng) {
       const double s = u(0, 1);
       return {{th[2 * a] + s * (th[2 * b] - th[2 * a]),
                th[2 * a + 1] + s * (th[2 * b + 1] - th[2 * a + 1])}};
+    }
+    case PrimitiveType::kExtrude: {
+      const double h = th.back();
+      if (u(0, 1) < 0.6) {  // the wall: on the profile's polygon, at any height
+        const Vec poly = bezier_profile(profile_of(th));
+        const std::size_t n = poly.size() / 2;
+        const std::size_t a = std::uniform_int_distribution<std::size_t>(0, n - 1)(rng);
+        const std::size_t b = (a + 1) % n;
+        const double s = u(0, 1);
+        return {{poly[2 * a] + s * (poly[2 * b] - poly[2 * a]),
+                 poly[2 * a + 1] + s * (poly[2 * b + 1] - poly[2 * a + 1]), u(-0.5, 0.5) * h}};
+      }
+      const Instance in = make(t, th);  // a cap: inside the profile, at z = +-h/2
+      while (true) {
+        Vec p = {u(-1, 1), u(-1, 1), 0.0};
+        if (value(in, p) < -1e-3) {
+          p[2] = (u(0, 1) < 0.5 ? -0.5 : 0.5) * h;
+          return {p};
+        }
+      }
     }
     default:
       return {};
@@ -700,6 +847,52 @@ TEST(PrimitiveExactness, PolygonMatchesBruteForce) {
   }
 }
 
+TEST(PrimitiveExactness, ExtrudeMatchesBruteForce) {
+  std::mt19937 rng(67);
+  const double k = 4.0 / 3.0 * 0.3;
+  // A rounded slot (two straight sides, two half-round ends) and a random profile.
+  const Vec slot = {-0.4, -0.3, -0.4 + 0.8 / 3, -0.3, 0.4 - 0.8 / 3,  -0.3,
+                    0.4,  -0.3, 0.4 + k,        -0.3, 0.4 + k,        0.3,
+                    0.4,  0.3,  0.4 - 0.8 / 3,  0.3,  -0.4 + 0.8 / 3, 0.3,
+                    -0.4, 0.3,  -0.4 - k,       0.3,  -0.4 - k,       -0.3};
+  for (const Vec& th : {extrude_theta(slot, 0.6), extrude_theta(random_profile(rng), 0.9)}) {
+    const Instance in = make(PrimitiveType::kExtrude, th);
+    const Vec poly = bezier_profile(profile_of(th));
+    const double h = th.back();
+    const std::size_t n = poly.size() / 2;
+    const int per_edge = 40, nz = 60;
+    const double grid = 0.02;
+    std::vector<Vec> samples;
+    double longest = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = (i + 1) % n;
+      longest = std::max(longest,
+                         std::hypot(poly[2 * j] - poly[2 * i], poly[2 * j + 1] - poly[2 * i + 1]));
+      for (int e = 0; e < per_edge; ++e) {
+        const double c = static_cast<double>(e) / per_edge;
+        for (int zi = 0; zi <= nz; ++zi) {
+          samples.push_back({poly[2 * i] + c * (poly[2 * j] - poly[2 * i]),
+                             poly[2 * i + 1] + c * (poly[2 * j + 1] - poly[2 * i + 1]),
+                             -0.5 * h + h * zi / nz});
+        }
+      }
+    }
+    for (double x = -1.2; x <= 1.2; x += grid) {
+      for (double y = -1.2; y <= 1.2; y += grid) {
+        if (!polygon_contains(poly, {x, y})) continue;
+        samples.push_back({x, y, -0.5 * h});
+        samples.push_back({x, y, 0.5 * h});
+      }
+    }
+    const double cover =
+        std::max(0.5 * std::hypot(longest / per_edge, h / nz), std::sqrt(0.5) * grid);
+    auto inside = [](const Vec& t, const Vec& p) {
+      return std::abs(p[2]) <= 0.5 * t.back() && polygon_contains(bezier_profile(profile_of(t)), p);
+    };
+    expect_matches_samples(in, samples, random_queries(rng, 3, 1.3, 40), cover, inside);
+  }
+}
+
 TEST(PrimitiveExactness, EllipseMatchesBruteForce) {
   std::mt19937 rng(31);
   for (const Vec& th : {Vec{1.2, 0.4}, Vec{0.3, 0.9}, Vec{0.7, 0.69}}) {
@@ -811,6 +1004,33 @@ TEST(PrimitiveGradients, EveryPieceMatchesFiniteDifferences) {
       EXPECT_TRUE(check_against_finite_differences(in, p))
           << name_of(in.shape.type) << " kink at " << p[0] << " " << p[1] << " " << p[2];
     }
+  }
+}
+
+// The extrude's gradient (point, every control point, height) at points inside near the wall
+// and near a cap, outside beside the wall, above a cap and beyond a rim, and at random points
+// around a curved profile.
+TEST(PrimitiveGradients, ExtrudeMatchesFiniteDifferencesNearWallsAndCaps) {
+  const Vec d_shape = {0, -1, 0, -1.0 / 3, 0, 1.0 / 3, 0, 1, 1.3, 1, 1.3, -1};
+  const Instance d = make(PrimitiveType::kExtrude, extrude_theta(d_shape, 0.6));
+  for (const Vec& p :
+       {Vec{0.05, 0.2, 0.0}, Vec{0.9, 0.1, 0.1}, Vec{0.5, 0.3, 0.27}, Vec{0.4, -0.2, -0.28},
+        Vec{-0.2, 0.3, 0.1}, Vec{1.1, -0.3, 0.0}, Vec{0.5, 0.1, 0.5}, Vec{0.6, -0.4, -0.45},
+        Vec{-0.1, 0.4, 0.4}, Vec{1.2, 0.2, -0.5}, Vec{0.3, 1.2, 0.1}, Vec{-1.5, 2.0, 1.0}}) {
+    EXPECT_TRUE(check_against_finite_differences(d, p))
+        << "kink at " << p[0] << " " << p[1] << " " << p[2];
+  }
+  std::mt19937 rng(71);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Instance in = make(PrimitiveType::kExtrude, extrude_theta(random_profile(rng), 0.8));
+    int checked = 0;
+    const int samples = 60;
+    for (int k = 0; k < samples; ++k) {
+      Vec p = random_point(rng, 3, 1.2);
+      p[2] = uniform(rng, -0.7, 0.7);  // around the caps
+      checked += check_against_finite_differences(in, p);
+    }
+    EXPECT_GE(checked, samples * 9 / 10);
   }
 }
 
@@ -972,6 +1192,18 @@ TEST(PrimitiveDegenerate, EdgesAxesAndCentres) {
   const Instance repeated = make(PrimitiveType::kPolygon, {0, 0, 1, 0, 1, 0, 1, 1, 0, 1});
   expect_finite(repeated, {1, 0}, "polygon with a repeated vertex");
   expect_finite(repeated, {0.5, 0.5}, "polygon with a repeated vertex");
+  const Instance ex =
+      make(PrimitiveType::kExtrude, extrude_theta(straight_profile({0, 0, 1, 0, 1, 1, 0, 1}), 1.0));
+  for (const Vec& p : {Vec{0, 0, 0}, Vec{1, 1, 0.5}, Vec{0.5, 0, 0.5}, Vec{0.5, 0.5, 0},
+                       Vec{0.25, 0.25, 0.25}, Vec{0.5, 0.5, 0.5}, Vec{0.5, 0.5, 2}}) {
+    expect_finite(ex, p, "extrude vertex/edge/medial axis/cap");
+  }
+  // A degenerate segment (all four controls at one point) repeats that point 15 times.
+  const Instance pinched =
+      make(PrimitiveType::kExtrude, {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 1, 0, 1, 1.0});
+  for (const Vec& p : {Vec{0, 0, 0}, Vec{0.3, 0.1, 0.2}, Vec{-1, -1, 0}}) {
+    expect_finite(pinched, p, "extrude with a degenerate segment");
+  }
   const Instance sphere = make(PrimitiveType::kSphere, {1});
   const Grad g = gradient(sphere, {0, 0, 0});
   EXPECT_DOUBLE_EQ(g.f, -1.0);

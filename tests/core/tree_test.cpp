@@ -322,6 +322,22 @@ TEST(Tree, LeafChecks) {
   check(2, PrimitiveType::kPolygon, {0, 0, 1, 0},
         "t: root.vertices: needs at least 3 vertices (got 2)");
   check(2, PrimitiveType::kPolygon, {0, 0, 1, 0, 0, 1}, "no error");
+  // The extrude: 3 points (P, A, B) per segment, at least 2 segments, then the height.
+  std::vector<double> extrude = {0, 0, 1, 0, 2, 0, 2, 1, 1, 2, 0, 1, 0.5};
+  check(3, PrimitiveType::kExtrude, extrude, "no error");
+  extrude.back() = 0;
+  check(3, PrimitiveType::kExtrude, extrude, "t: root.height: must be > 0 (got 0)");
+  extrude.back() = 0.5;
+  extrude[7] = std::numeric_limits<double>::infinity();
+  check(3, PrimitiveType::kExtrude, extrude, "t: root.profile[3][1]: must be finite (got inf)");
+  check(3, PrimitiveType::kExtrude, {0, 0, 1, 0, 2, 0, 0.5},
+        "t: root.profile: needs at least 6 points, 2 segments (got 3)");
+  check(3, PrimitiveType::kExtrude, {0, 0, 1, 0, 2, 0, 2, 1, 0.5},
+        "t: root.profile: needs 3 points (P, A, B) per segment (got 4)");
+  check(3, PrimitiveType::kExtrude, {0, 0, 1, 0, 2, 0, 2, 1, 1, 2, 0, 0.5},
+        "t: root.profile: needs 2 numbers per point (got 11 numbers)");
+  check(2, PrimitiveType::kExtrude, {0, 0, 1, 0, 2, 0, 2, 1, 1, 2, 0, 1, 0.5},
+        "t: root.type: \"extrude\" is a 3D primitive, but the tree is 2D");
   check(3, PrimitiveType::kMlp, {1, 2, 3, 4}, "no error");  // no hidden layers: 4 weights
   check(3, PrimitiveType::kMlp, {1, 2, 3},
         "t: root.weights: needs 4 numbers for 0 hidden layers (got 3)");

@@ -68,7 +68,7 @@ int count_of(const std::string& text, const std::string& what) {
 
 TEST(DiagramDot, ExamplesParseWithOneNodePerTreeNodeAndEdgesInChildOrder) {
   for (const char* name : {"box_with_hole.json", "cart_2d.json", "unified_logits.json",
-                           "li_tian_blend.json", "logic_families.json"}) {
+                           "li_tian_blend.json", "logic_families.json", "extrude_bracket.json"}) {
     SCOPED_TRACE(name);
     const Tree tree = example(name);
     const std::string dot = diagram_dot(tree);
@@ -94,6 +94,14 @@ TEST(DiagramDot, LabelsShowOperatorsLeavesAndTheSubtractedOperand) {
   EXPECT_NE(std::string(agget(a, const_cast<char*>("style"))), "dashed");
   EXPECT_NE(std::string(agget(d.g.get(), const_cast<char*>("label"))).find("3D tree: 2 leaves"),
             std::string::npos);
+}
+
+// An extrude's label counts its profile's segments and shows the height after it.
+TEST(DiagramDot, ExtrudeShowsItsSegmentsAndHeight) {
+  const ParsedDot d(diagram_dot(example("extrude_bracket.json")));
+  ASSERT_NE(d.g, nullptr);
+  EXPECT_EQ(d.attr("root.children[0]", "label"),
+            "\"slotted plate\"\\nextrude\\nprofile 4 segments\\nheight 0.2\\nsharpness 80");
 }
 
 TEST(DiagramDot, UnifiedOperatorsShowTheirTypeAndRoundedC) {

@@ -136,6 +136,31 @@ TEST(Evaluator, EveryPlacedFamilyMatchesReference) {
   }
 }
 
+// Placed extrudes (translated, rotated, scaled; one with an H_n step) go through the kernel's
+// scalar leaf path: forward values against the reference, and the gradient of every parameter
+// (profile control points, a shared one among them, height, placement, sharpness) against
+// central differences of the reference.
+TEST(Evaluator, PlacedExtrudeMatchesReference) {
+  const Tree tree = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "parameters": {"w": 0.35},
+    "root": {"op": "union", "children": [
+      {"op": "difference", "children": [
+        {"type": "extrude",
+         "profile": [[-0.5, -0.3], [-0.2, -0.3], [0.2, -0.3], [0.5, -0.3], [0.9, -0.3], [0.9, 0.3],
+                     [0.5, {"param": "w"}], [0.1, 0.4], [-0.2, 0.3], [-0.5, 0.3], [-0.9, 0.3],
+                     [-0.8, -0.3]],
+         "height": 0.5, "translate": [0.1, -0.05, 0.05], "rotate": [20, -30, 40], "scale": 0.9,
+         "sharpness": 6},
+        {"type": "cylinder", "radius": 0.2, "height": 1.5, "translate": [0.2, 0, 0],
+         "sharpness": 6}]},
+      {"type": "extrude",
+       "profile": [[0, -0.4], [0, -0.1], [0, 0.1], [0, 0.4], [{"param": "w"}, 0.4], [0.4, -0.4]],
+       "height": 0.3, "translate": [-0.3, 0.4, -0.3], "rotate": [90, 0, 0],
+       "step": {"hn": 3, "range": 0.4}}]}})",
+                                         "placed_extrude.json");
+  check_tree(tree, 200, 31);
+}
+
 // A tree with every operator family, complements, n-ary folds, steps and shared parameters.
 constexpr const char* kMixed = R"({
   "format": "fuzzycsg-tree", "version": 1, "dim": 3,

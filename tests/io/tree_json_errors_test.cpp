@@ -196,6 +196,9 @@ TEST(TreeJsonErrors, MissingFields) {
        "tree.json: domain: missing field \"max\""},
       {tree3(R"({"op": "difference", "complement": {"lambda": 1}, "children": []})"),
        "tree.json: root.complement: missing field \"type\""},
+      {tree3(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [2, 0], [2, 1], [1, 2], [0, 1]]})"),
+       "tree.json: root: missing field \"height\""},
+      {tree3(R"({"type": "extrude", "height": 1})"), "tree.json: root: missing field \"profile\""},
   });
 }
 
@@ -241,6 +244,12 @@ TEST(TreeJsonErrors, BadValues) {
        "tree.json: root: radius1 and radius2 must not both be 0"},
       {tree3(R"({"type": "cone", "radius1": -1, "radius2": 0, "height": 1})"),
        "tree.json: root.radius1: must be >= 0 (got -1)"},
+      {pair3(kSphere, R"({"type": "extrude", "profile": [[0, 0], [1, 0], [2, 0], [2, 1], [1, 2],)"
+                      R"( [0, 1]], "height": -0.5})"),
+       "tree.json: root.children[1].height: must be > 0 (got -0.5)"},
+      {tree3(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [2, 0], [2, 1e999], [1, 2],)"
+             R"( [0, 1]], "height": 1})"),
+       "tree.json: root.profile[3][1]: must be finite (got 1e999)"},
       {tree3(R"({"type": "mlp", "hidden": [0], "weights": []})"),
        "tree.json: root.hidden[0]: must be in [1, 64] (got 0)"},
       {tree3(R"({"type": "mlp", "hidden": [65], "weights": []})"),
@@ -312,6 +321,15 @@ TEST(TreeJsonErrors, WrongArrayLengths) {
        "tree.json: root.vertices[2]: expected an [x, y] pair (got 5)"},
       {tree2(R"({"type": "polygon", "vertices": {"x": 1}})"),
        "tree.json: root.vertices: expected an array of [x, y] vertices (got an object)"},
+      {tree3(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [1, 1], [0, 1]], "height": 1})"),
+       "tree.json: root.profile: needs 3 points (P, A, B) per segment (got 4)"},
+      {tree3(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [1, 1]], "height": 1})"),
+       "tree.json: root.profile: needs at least 6 points, 2 segments (got 3)"},
+      {tree3(R"({"type": "extrude", "profile": {"x": 1}, "height": 1})"),
+       "tree.json: root.profile: expected an array of [x, y] points (got an object)"},
+      {tree3(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [2, 0], [2, 1], [1], [0, 1]],)"
+             R"( "height": 1})"),
+       "tree.json: root.profile[4]: expected an [x, y] pair (got an array of 1 elements)"},
       {tree3(R"({"type": "mlp", "weights": [1, 2, 3]})"),
        "tree.json: root.weights: expected 353 numbers for hidden layers [16, 16] (got 3)"},
       {tree3(R"({"type": "mlp", "hidden": [], "weights": [1, 2, 3]})"),
@@ -326,6 +344,9 @@ TEST(TreeJsonErrors, WrongArrayLengths) {
 
 TEST(TreeJsonErrors, WrongDimension) {
   expect_messages({
+      {tree2(R"({"type": "extrude", "profile": [[0, 0], [1, 0], [2, 0], [2, 1], [1, 2], [0, 1]],)"
+             R"( "height": 1})"),
+       "tree.json: root.type: \"extrude\" is a 3D primitive, but the tree is 2D"},
       {tree3(R"({"type": "circle", "radius": 1})"),
        "tree.json: root.type: \"circle\" is a 2D primitive, but the tree is 3D"},
       {tree2(R"({"type": "box", "size": [1, 1, 1]})"),

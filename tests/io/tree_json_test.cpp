@@ -147,6 +147,36 @@ TEST(TreeJson, NamesEveryKindOfParameter) {
                 "root.vertices[3][0]", "root.vertices[3][1]", "root.rotate", "root.sharpness"}));
   EXPECT_EQ(t2.node(t2.root).intrinsic.size(), 8u);
   EXPECT_EQ(param(t2, "root.vertices[3][1]").value, -1.0);
+
+  // The extrude's profile: point k's coordinates, then the height; a shared entry keeps its
+  // name and counts once.
+  const Tree te = read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "parameters": {"w": 0.5},
+    "root": {"op": "union", "children": [{"type": "sphere", "radius": 1},
+      {"type": "extrude", "profile": [[0, 0], [0.3, 0], [0.6, 0], [{"param": "w"}, 1], [0.5, 1.2],
+                                      [0.2, 1]], "height": 0.25}]}})");
+  EXPECT_EQ(names(te), (std::vector<std::string>{
+                           "w",
+                           "root.children[0].radius",
+                           "root.children[0].sharpness",
+                           "root.children[1].profile[0][0]",
+                           "root.children[1].profile[0][1]",
+                           "root.children[1].profile[1][0]",
+                           "root.children[1].profile[1][1]",
+                           "root.children[1].profile[2][0]",
+                           "root.children[1].profile[2][1]",
+                           "root.children[1].profile[3][1]",
+                           "root.children[1].profile[4][0]",
+                           "root.children[1].profile[4][1]",
+                           "root.children[1].profile[5][0]",
+                           "root.children[1].profile[5][1]",
+                           "root.children[1].height",
+                           "root.children[1].sharpness",
+                       }));
+  EXPECT_EQ(te.node(te.node(te.root).children[1]).intrinsic.size(), 13u);
+  EXPECT_EQ(param(te, "root.children[1].profile[4][1]").value, 1.2);
+  EXPECT_EQ(param(te, "root.children[1].height").value, 0.25);
+  EXPECT_EQ(param(te, "root.children[1].sharpness").value, 50.0);
 }
 
 std::string tree3(const std::string& root) {

@@ -192,8 +192,11 @@ class RandomTrees {
           n.intrinsic.insert(n.intrinsic.end(), refs.begin(), refs.end());
           break;
         }
-        case Arity::kPoints2: {
-          const auto refs = numbers(f.range, 2 * integer(3, 7));
+        case Arity::kPoints2: {  // a polygon's 3 to 7 vertices, an extrude's 2 to 4 segments
+          const fields::PointsRule rule = fields::points_rule(type);
+          const int groups = rule.multiple > 1 ? integer(rule.min_points / rule.multiple, 4)
+                                               : integer(rule.min_points, 7);
+          const auto refs = numbers(f.range, 2 * rule.multiple * groups);
           n.intrinsic.insert(n.intrinsic.end(), refs.begin(), refs.end());
           break;
         }
@@ -330,6 +333,41 @@ TEST(TreeRoundTrip, RandomTrees) {
   EXPECT_GT(shared, 100);
   EXPECT_GT(splines, 50);
   EXPECT_GT(boxes, 20);
+}
+
+// An extrude whose profile uses a shared parameter, placed, fixed and free numbers: the
+// writer puts its points one per line, and the text reads back to the same tree.
+TEST(TreeRoundTrip, ExtrudeWithASharedProfileParameter) {
+  const std::string text = R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "parameters": {"half": 0.25},
+    "root": {"op": "difference", "children": [
+      {"type": "extrude", "name": "slot",
+       "profile": [[-0.4, {"param": "half"}], [0, 0.25], [0.2, 0.25], [0.4, {"param": "half"}],
+                   [0.75, 0.25], [0.75, -0.25], [0.4, -0.25], [0.1, -0.25],
+                   [{"value": -0.1, "fixed": true}, -0.25], [-0.4, -0.25], [-0.75, -0.25],
+                   [-0.75, 0.1]],
+       "height": 0.3, "translate": [0.1, 0, 0], "rotate": [0, 90, 15], "scale": 1.5},
+      {"type": "cylinder", "radius": 0.1, "height": 1}]}})";
+  const Tree tree = read_tree_string(text, "extrude.json");
+  const Node& leaf = tree.node(tree.node(tree.root).children[0]);
+  ASSERT_EQ(leaf.intrinsic.size(), 25u);
+  EXPECT_EQ(leaf.intrinsic[1], leaf.intrinsic[7]);  // both "half"
+  EXPECT_TRUE(tree.params[leaf.intrinsic[1]].shared);
+  EXPECT_TRUE(tree.params[leaf.intrinsic[16]].fixed);
+  EXPECT_EQ(tree.params[leaf.intrinsic[24]].name, "root.children[0].height");
+  expect_fixed_point(text, "extrude.json");
+  const std::string written = write_tree_string(tree);
+  EXPECT_NE(written.find(R"(        "profile": [
+          [-0.4, {"param": "half"}],
+          [0, 0.25],)"),
+            std::string::npos)
+      << written;
+  EXPECT_NE(written.find(R"(          [-0.75, 0.1]
+        ],
+        "height": 0.3,
+        "translate": [0.1, 0, 0],)"),
+            std::string::npos)
+      << written;
 }
 
 TEST(TreeRoundTrip, DoublesAreBitIdentical) {

@@ -85,6 +85,32 @@ TEST(Bounds, ContainEveryLogicFamily) {
   }
 }
 
+// The extrude is an exact distance, so its bounds are Lipschitz ones: they hold for placed
+// extrudes (one with a profile that crosses itself, whose f is still 1-Lipschitz) and the
+// example, and are tight away from the surface.
+TEST(Bounds, ContainPlacedExtrudes) {
+  const Tree tree = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "root": {"op": "union", "logic": "godel", "children": [
+      {"type": "extrude",
+       "profile": [[-0.5, -0.3], [-0.2, -0.3], [0.2, -0.3], [0.5, -0.3], [0.9, -0.3], [0.9, 0.3],
+                   [0.5, 0.3], [0.1, 0.4], [-0.2, 0.3], [-0.5, 0.3], [-0.9, 0.3], [-0.8, -0.3]],
+       "height": 0.4, "translate": [0.1, -0.2, 0.1], "rotate": [20, -30, 40], "scale": 0.8,
+       "sharpness": 12},
+      {"type": "extrude",
+       "profile": [[-0.4, -0.4], [0, 0], [0, 0], [0.4, 0.4], [0.6, 0], [0.6, 0], [0.4, -0.4],
+                   [0, 0], [0, 0], [-0.4, 0.4], [-0.6, 0], [-0.6, 0]],
+       "height": 0.3, "translate": [0, 0.5, -0.4], "rotate": [90, 0, 0], "sharpness": 20}]}})",
+                                         "extrudes");
+  EXPECT_LT(check_bounds(tree, 300, 11), 0.9);
+  check_bounds(io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/extrude_bracket.json"), 300, 12);
+  const Tree plate = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/extrude_bracket.json");
+  const std::vector<double> params = plate.params.values();
+  const double above_lo[3] = {-0.2, -0.1, 0.4}, above_hi[3] = {0.0, 0.1, 0.5};
+  EXPECT_LT(occupancy_bounds(plate, params, above_lo, above_hi).hi, 1e-3);
+  const double in_lo[3] = {-0.26, -0.01, -0.01}, in_hi[3] = {-0.24, 0.01, 0.01};
+  EXPECT_GT(occupancy_bounds(plate, params, in_lo, in_hi).lo, 0.99);
+}
+
 TEST(Bounds, TightFarFromTheSurface) {
   const Tree tree = io::read_tree_string(
       R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,

@@ -86,6 +86,29 @@ TEST(ScadExport, EveryFamilyOpenScadHas) {
             std::string::npos);
 }
 
+// The extrude: linear_extrude of the profile's sampled polygon (15 points per segment, P_k
+// first), centred, under the leaf's placement.
+TEST(ScadExport, ExtrudeIsTheLinearExtrusionOfItsPolygon) {
+  const std::string s = export_text(R"({"type": "extrude",
+      "profile": [[0, -0.5], [0, -0.2], [0, 0.2], [0, 0.5], [0.6, 0.5], [0.6, -0.5]],
+      "height": 0.3, "translate": [0.1, 0, 0], "rotate": [90, 0, 0]})");
+  const std::string head =
+      "translate([0.1, 0, 0]) rotate([90, 0, 0]) linear_extrude(height = 0.3, center = true) "
+      "polygon(";
+  const std::size_t at = s.find(head);
+  ASSERT_NE(at, std::string::npos) << s;
+  const std::size_t end = s.find(");", at);
+  ASSERT_NE(end, std::string::npos);
+  const std::string points = s.substr(at + head.size(), end - at - head.size());
+  EXPECT_EQ(count(points, "["), 31u) << points;  // the list's bracket and 30 points
+  EXPECT_EQ(points.rfind("[[0, -0.5], [0, -0.43", 0), 0u) << points;
+  // Sample 0 of the second segment is P1; sample 8 of it is the curve at t = 8/15,
+  // x = 1.8 t (1 - t) = 0.448.
+  EXPECT_NE(points.find("[0, 0.5], [0.112, "), std::string::npos) << points;
+  EXPECT_NE(points.find("[0.448, -0.0499"), std::string::npos) << points;
+  EXPECT_EQ(s.find("polyhedron"), std::string::npos);
+}
+
 TEST(ScadExport, OperatorsAreTheirCrispBooleans) {
   // Unified weights snapped to their argmax: B \ A is a difference with the children swapped.
   const std::string s = export_text(R"({"op": "unified", "c": [0.1, 0.2, 0.3, 0.4], "children": [

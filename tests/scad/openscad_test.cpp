@@ -246,6 +246,24 @@ TEST(OpenScad, ClassifiedQuadricLeaves) {
   expect_matches(tree, r, 0.02, 0.97, /*manifold=*/false);
 }
 
+// The extrude example (a slotted plate with a bolt hole), placed: its linear_extrude against
+// the tree.
+TEST(OpenScad, ExtrudedProfile) {
+  FUZZYCSG_REQUIRE_OPENSCAD();
+  const Tree tree =
+      io::read_tree_string(tree_text(3, R"({"op": "difference", "logic": "godel", "children": [
+    {"type": "extrude",
+     "profile": [[-0.45, -0.3], [-0.15, -0.3], [0.15, -0.3], [0.45, -0.3], [0.85, -0.3], [0.85, 0.3],
+                 [0.45, 0.3], [0.15, 0.3], [-0.15, 0.3], [-0.45, 0.3], [-0.85, 0.3], [-0.85, -0.3]],
+     "height": 0.4, "translate": [0.05, -0.1, 0.1], "rotate": [30, -20, 10], "scale": 0.9},
+    {"type": "cylinder", "radius": 0.15, "height": 1.0, "translate": [0.45, -0.05, 0.2],
+     "rotate": [30, -20, 10]}]})"));
+  scad::ExportReport report;
+  const Rendered r = render("extrude", tree, options(), &report);
+  EXPECT_EQ(report.meshed_leaves, 0);
+  expect_matches(tree, r, 0.02, 0.97);
+}
+
 // 2D: OpenSCAD writes SVG; the area of its paths and the inside (even-odd) against the tree.
 TEST(OpenScad, TwoDimensionalTree) {
   FUZZYCSG_REQUIRE_OPENSCAD();

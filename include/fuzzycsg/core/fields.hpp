@@ -8,7 +8,11 @@
 // given as closed Ranges so that messages read the same as for parameters.
 
 #include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
 
+#include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/primitives.hpp"
@@ -37,8 +41,31 @@ inline constexpr Range kMlpHiddenWidth = Range::closed(1, kMlpMaxWidth);
 inline constexpr int kMlpMaxHiddenLayers = fuzzycsg::kMlpMaxHiddenLayers;
 inline constexpr std::array<int, 2> kMlpDefaultHidden{16, 16};
 
-// ---- polygon leaves
+// ---- point-list fields (Arity::kPoints2): the polygon's vertices, the extrude's profile
 inline constexpr int kPolygonMinVertices = 3;
+// The extrude's profile: P, A, B per segment (bezier.hpp), at least kBezierMinSegments segments.
+inline constexpr int kExtrudePointsPerSegment = 3;
+inline constexpr int kExtrudeMinPoints = kExtrudePointsPerSegment * kBezierMinSegments;
+
+struct PointsRule {
+  int min_points = 1;             // at least this many [x, y] points
+  int multiple = 1;               // and a multiple of this many (1: any count)
+  std::string_view point;         // one of them, in messages: "vertex", "point"
+  std::string_view points;        // several: "vertices", "points"
+  std::string_view group;         // multiple > 1: what each group of `multiple` is: "segment"
+  std::string_view group_points;  // multiple > 1: its points: "P, A, B"
+};
+// Precondition: the family has a kPoints2 field.
+PointsRule points_rule(PrimitiveType type);
+// What is wrong with `count` points for the family ("needs at least 3 vertices (got 2)"), or
+// empty when the count is fine.
+std::string points_problem(PrimitiveType type, std::size_t count);
+
+// The numbers a leaf of `info`'s family with `intrinsic` numbers in all gives its
+// variable-length field (the MLP's weights, the polygon's vertices, the extrude's profile):
+// those its scalar and fixed-length fields do not take, or 0 when they take more. A family has
+// at most one variable-length field.
+std::size_t variable_count(const PrimitiveInfo& info, std::size_t intrinsic);
 
 // ---- inner nodes: logic families
 // The family's continuous parameter (name logic::p_field_name(f), range, default).

@@ -42,7 +42,8 @@ enum class Arity {
   kScalar,   // one number: "radius": 0.5
   kFixed,    // a fixed-length array: "size": [1, 2, 3]
   kList,     // a list of numbers whose length depends on other fields (MLP weights)
-  kPoints2,  // a list of [x, y] pairs (polygon vertices)
+  kPoints2,  // a list of [x, y] pairs (polygon vertices, an extrude's profile); its count
+             // follows from the number of intrinsic parameters (fields::variable_count)
 };
 
 struct FieldSpec {
