@@ -249,7 +249,7 @@ std::vector<double> parameter_scales(const Tree& tree, const TessellationOptions
 namespace {
 
 RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const RefineOptions& o,
-                          const TessellationOptions& tessellation) {
+                          const TessellationOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   RefineResult result;
@@ -259,6 +259,7 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
   }
   result.tree = unified ? snap_operators(input) : input;
   Tree& tree = result.tree;
+  const TessellationOptions tessellation = fixed_tessellation(tree, "refine", options);
   const std::vector<double> initial = tree.params.values();
   std::vector<std::size_t> free;
   for (std::size_t k = 0; k < tree.params.size(); ++k) {
@@ -335,7 +336,7 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
 }  // namespace
 
 RefineResult refine(const Tree& input, const RefineTarget& target, const RefineOptions& o,
-                    const TessellationOptions& tessellation) {
+                    const TessellationOptions& options) {
   if (target.cameras.empty() || target.cameras.size() != target.images.size()) {
     throw InputError("refine: one target image per camera expected");
   }
@@ -359,7 +360,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
   if (o.method == Method::kCmaes) {
     if (o.random_view_every > 0) throw InputError("refine: CMA-ES uses the fixed views only");
     if (!(o.cmaes_sigma > 0)) throw InputError("refine: CMA-ES sigma: must be > 0");
-    return refine_cmaes(input, target, o, tessellation);
+    return refine_cmaes(input, target, o, options);
   }
   using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t) {
@@ -373,6 +374,8 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
   }
   result.tree = unified ? snap_operators(input) : input;
   Tree& tree = result.tree;
+  // The meshes keep their connectivity: extrude caps triangulated once, at the start.
+  const TessellationOptions tessellation = fixed_tessellation(tree, "refine", options);
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> uniform(0, 1);
   const Camera& check = target.cameras[0];

@@ -248,7 +248,120 @@ LeafMesh cone_mesh(int segments, ParamRef r1, ParamRef r2, ParamRef h, bool apex
   return out;
 }
 
+// The polygon of an extrude leaf's profile at the tree's values.
+std::vector<double> extrude_polygon(const Tree& tree, const Node& n) {
+  std::vector<double> control;
+  for (std::size_t k = 0; k + 1 < n.intrinsic.size(); ++k) {
+    control.push_back(tree.params[n.intrinsic[k]].value);
+  }
+  return bezier_profile(control, kBezierSamples);
+}
+
+std::vector<PolygonTriangle> triangulate_profile(const Tree& tree, int node,
+                                                 const std::string& source,
+                                                 const std::string& where) {
+  try {
+    return triangulate_polygon(extrude_polygon(tree, tree.node(node)));
+  } catch (const InputError& e) {
+    throw InputError(
+        fmt::format("{}: {}: profile: its polygon cannot be meshed ({})", source, where, e.what()));
+  }
+}
+
+// An extrude: the profile's samples as two rings, walls and caps. `caps` triangulates the
+// polygon in its own orientation.
+LeafMesh extrude_mesh(const Tree& tree, const Node& n, const std::vector<PolygonTriangle>& caps) {
+  const std::vector<double> poly = extrude_polygon(tree, n);
+  const int segments = static_cast<int>((n.intrinsic.size() - 1) / 6);
+  const int count = segments * kBezierSamples;
+  const ParamRef height = n.intrinsic.back();
+  double area = 0;
+  for (int q = 0; q < count; ++q) {
+    const int r = (q + 1) % count;
+    area += poly[2 * static_cast<std::size_t>(q)] * poly[2 * static_cast<std::size_t>(r) + 1] -
+            poly[2 * static_cast<std::size_t>(r)] * poly[2 * static_cast<std::size_t>(q) + 1];
+  }
+  LeafMesh out;
+  TriMesh& m = out.mesh;
+  for (const double z : {-0.5, 0.5}) {
+    for (int k = 0; k < segments; ++k) {
+      for (int sample = 0; sample < kBezierSamples; ++sample) {
+        const std::array<double, 4> w = bezier_sample_weights(sample, kBezierSamples);
+        const std::size_t q = static_cast<std::size_t>(k * kBezierSamples + sample);
+        m.vertices.push_back({poly[2 * q], poly[2 * q + 1], z});
+        std::vector<LocalTerm> terms;
+        for (int j = 0; j < 4; ++j) {
+          const std::size_t c = bezier_control_index(static_cast<std::size_t>(segments),
+                                                     static_cast<std::size_t>(k), j);
+          const double wj = w[static_cast<std::size_t>(j)];
+          if (wj == 0) continue;
+          terms.push_back({n.intrinsic[2 * c], {wj, 0, 0}});
+          terms.push_back({n.intrinsic[2 * c + 1], {0, wj, 0}});
+        }
+        terms.push_back({height, {0, 0, z}});
+        out.terms.push_back(std::move(terms));
+      }
+    }
+  }
+  // Walls: a new smoothing group wherever the profile turns by more than 30 degrees.
+  const auto edge = [&](int q) {
+    const int r = (q + 1) % count;
+    return std::array<double, 2>{
+        poly[2 * static_cast<std::size_t>(r)] - poly[2 * static_cast<std::size_t>(q)],
+        poly[2 * static_cast<std::size_t>(r) + 1] - poly[2 * static_cast<std::size_t>(q) + 1]};
+  };
+  const auto crease = [&](int q) {  // between edge q - 1 and edge q
+    const auto a = edge((q + count - 1) % count), b = edge(q);
+    const double la = std::hypot(a[0], a[1]), lb = std::hypot(b[0], b[1]);
+    return la > 0 && lb > 0 &&
+           (a[0] * b[0] + a[1] * b[1]) < std::cos(std::numbers::pi / 6) * la * lb;
+  };
+  int first = -1;
+  for (int q = 0; q < count && first < 0; ++q) {
+    if (crease(q)) first = q;
+  }
+  std::vector<int> group(static_cast<std::size_t>(count), 0);
+  if (first >= 0) {
+    int g = -1;
+    for (int step = 0; step < count; ++step) {
+      const int q = (first + step) % count;
+      if (crease(q)) ++g;
+      group[static_cast<std::size_t>(q)] = g;
+    }
+  }
+  for (int q = 0; q < count; ++q) {
+    const int r = (q + 1) % count;
+    m.triangles.push_back({q, r, count + r});
+    m.triangles.push_back({q, count + r, count + q});
+    m.smoothing.insert(m.smoothing.end(), 2, group[static_cast<std::size_t>(q)]);
+  }
+  for (const PolygonTriangle& t : caps) {
+    m.triangles.push_back({count + t[0], count + t[1], count + t[2]});  // top, seen from above
+    m.triangles.push_back({t[0], t[2], t[1]});                          // bottom
+    m.smoothing.insert(m.smoothing.end(), 2, -1);
+  }
+  // The walls and caps above face out for a counter-clockwise profile (the caps' triangles
+  // follow the polygon's orientation); a clockwise one is turned over.
+  if (area < 0) {
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  }
+  return out;
+}
+
 }  // namespace
+
+TessellationOptions fixed_tessellation(const Tree& tree, const std::string& source,
+                                       TessellationOptions options) {
+  const std::vector<std::string> paths = node_paths(tree);
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const Node& n = tree.nodes[i];
+    if (n.kind != NodeKind::kPrimitive || n.shape.type != PrimitiveType::kExtrude) continue;
+    if (options.cap_triangles.count(static_cast<int>(i))) continue;
+    options.cap_triangles[static_cast<int>(i)] =
+        triangulate_profile(tree, static_cast<int>(i), source, paths[i]);
+  }
+  return options;
+}
 
 Scene scene_from_tree(const Tree& input, const std::string& source,
                       const TessellationOptions& options) {
@@ -302,10 +415,18 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
           leaf = cone_mesh(openscad ? fragments->second : options.cylinder_segments, th.at(0),
                            th.at(1), th.at(2), value(th.at(0)) == 0, value(th.at(1)) == 0);
           break;
+        case PrimitiveType::kExtrude: {
+          const auto fixed = options.cap_triangles.find(i);
+          leaf = extrude_mesh(tree, n,
+                              fixed != options.cap_triangles.end()
+                                  ? fixed->second
+                                  : triangulate_profile(tree, i, source, where));
+          break;
+        }
         default:
           throw InputError(
               fmt::format("{}: {}: primitive type \"{}\" not supported by the mesh renderer (box, "
-                          "sphere, ellipsoid, cylinder, cone)",
+                          "sphere, ellipsoid, cylinder, cone, extrude)",
                           source, where, primitive_info(n.shape.type).name));
       }
       PrimitiveBinding bind;

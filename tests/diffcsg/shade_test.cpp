@@ -25,8 +25,8 @@ Tree ball_and_box(double radius, double tx) {
 }
 
 double weighted(const Tree& tree, const Camera& cam, const std::vector<float>& w, Shading shading,
-                bool aa) {
-  const PreparedScene ps = prepare_scene(scene_from_tree(tree, "t"), aa);
+                bool aa, const TessellationOptions& tess = {}) {
+  const PreparedScene ps = prepare_scene(scene_from_tree(tree, "t", tess), aa);
   const Image out = render_image(ps, cam, shading, 1);
   double l = 0;
   for (std::size_t k = 0; k < out.data.size(); ++k) l += w[k] * out.data[k];
@@ -101,14 +101,29 @@ TEST(DiffcsgShade, NormalImagesFaceTheCameraAndAreSmoothOnSpheres) {
   EXPECT_LT(smooth, 0.3 * flat);
 }
 
-void check_parameter_gradient(Shading shading, bool aa, int min_compared) {
-  const Tree tree = ball_and_box(0.45, 0.25);
+// A D-shaped plate (straight back, a Bézier curve in front) less a tapered hole, tilted.
+Tree plate_with_hole() {
+  return io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {
+      "op": "difference", "children": [
+        {"type": "extrude", "profile": [[-0.6, -0.5], [-0.2, -0.5], [0.2, -0.5],
+                                        [0.5, -0.5], [0.9, -0.3], [0.9, 0.3],
+                                        [0.5, 0.5], [0.2, 0.5], [-0.2, 0.5],
+                                        [-0.6, 0.5], [-0.6, 0.2], [-0.6, -0.2]],
+         "height": 0.4, "rotate": [25, -10, 15]},
+        {"type": "cone", "radius1": 0.25, "radius2": 0.15, "height": 1.2,
+         "translate": [0.2, 0.05, 0], "rotate": [25, -10, 15]}]}})");
+}
+
+void check_parameter_gradient(Shading shading, bool aa, int min_compared,
+                              const Tree& tree = ball_and_box(0.45, 0.25)) {
   const Camera cam = Camera::orbit({0, 0, 0}, 30, 25, 4, 48, 48, 35);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1, 1);
   std::vector<float> w(48 * 48 * 3);
   for (float& x : w) x = u(rng);
-  const PreparedScene ps = prepare_scene(scene_from_tree(tree, "t"), aa);
+  // Extrude caps keep their triangulation, as in a refinement.
+  const TessellationOptions tess = fixed_tessellation(tree, "t", {});
+  const PreparedScene ps = prepare_scene(scene_from_tree(tree, "t", tess), aa);
   const ViewPass pass = render_view(ps, cam, shading, 1);
   Image g{48, 48, 3, w};
   VertexGradient gv;
@@ -121,7 +136,8 @@ void check_parameter_gradient(Shading shading, bool aa, int min_compared) {
     a.params.at(k).value += eps;
     b.params.at(k).value -= eps;
     const double fd =
-        (weighted(a, cam, w, shading, aa) - weighted(b, cam, w, shading, aa)) / (2 * eps);
+        (weighted(a, cam, w, shading, aa, tess) - weighted(b, cam, w, shading, aa, tess)) /
+        (2 * eps);
     if (std::abs(fd) < 1e-9 && std::abs(grad[k]) < 1e-9) continue;
     ++compared;
     const bool ok =
@@ -138,6 +154,12 @@ void check_parameter_gradient(Shading shading, bool aa, int min_compared) {
 TEST(DiffcsgShade, NormalImageParameterGradientsMatchCentralDifferences) {
   // 3 + 3 + 1 for the box (size, rotate, scale), 1 + 3 for the ball.
   check_parameter_gradient(Shading::kNormals, true, 10);
+}
+
+TEST(DiffcsgShade, ExtrudeAndConeGradientsMatchCentralDifferences) {
+  // 24 profile numbers, the height, 3 angles; a cone's 3 fields and 6 of its placement: most
+  // reach the image.
+  check_parameter_gradient(Shading::kNormals, true, 25, plate_with_hole());
 }
 
 TEST(DiffcsgShade, ColourImageParameterGradientsMatchCentralDifferences) {

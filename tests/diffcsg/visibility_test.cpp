@@ -5,10 +5,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <random>
+#include <set>
 #include <string>
 
+#include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
@@ -80,6 +83,81 @@ TEST(DiffcsgVisibility, UnitMeshesAreClosedWithOutwardNormals) {
   }
   EXPECT_EQ(unit_sphere(2).triangles.size(), 320u);
   EXPECT_EQ(unit_cylinder(16).triangles.size(), 64u);
+}
+
+TEST(DiffcsgVisibility, ExtrudesAndConesAreClosedWithTheirVolumes) {
+  // A rounded slot (straight sides, semicircle-like Bézier ends), counter-clockwise and
+  // clockwise, and a cone with an apex.
+  const std::string slot =
+      R"([[-0.5, -0.3], [-0.1, -0.3], [0.1, -0.3], [0.5, -0.3], [0.9, -0.3], [0.9, 0.3],
+          [0.5, 0.3], [0.1, 0.3], [-0.1, 0.3], [-0.5, 0.3], [-0.9, 0.3], [-0.9, -0.3]])";
+  std::string reversed = R"([[-0.5, -0.3], [-0.9, -0.3], [-0.9, 0.3], [-0.5, 0.3], [-0.1, 0.3],
+      [0.1, 0.3], [0.5, 0.3], [0.9, 0.3], [0.9, -0.3], [0.5, -0.3], [0.1, -0.3], [-0.1, -0.3]])";
+  for (const std::string& profile : {slot, reversed}) {
+    const Tree tree = io::read_tree_string(
+        R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "extrude",
+        "profile": )" +
+        profile + R"(, "height": 0.5}})");
+    const Scene scene = scene_from_tree(tree, "slot");
+    const TriMesh& m = scene.primitives[0];
+    // Closed: every edge in exactly two triangles, once each way.
+    std::map<std::pair<int, int>, int> edges;
+    for (const auto& t : m.triangles) {
+      for (int k = 0; k < 3; ++k)
+        ++edges[{t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]}];
+    }
+    for (const auto& [e, n] : edges) {
+      EXPECT_EQ(n, 1);
+      EXPECT_EQ(edges.count({e.second, e.first}), 1u);
+    }
+    // The prism over the sampled polygon: its area times the height, outward.
+    const Node& leaf = tree.node(tree.root);
+    std::vector<double> control;
+    for (std::size_t k = 0; k + 1 < leaf.intrinsic.size(); ++k) {
+      control.push_back(tree.params[leaf.intrinsic[k]].value);
+    }
+    const std::vector<double> poly = bezier_profile(control);
+    double area = 0;
+    for (std::size_t q = 0; q < poly.size() / 2; ++q) {
+      const std::size_t r = (q + 1) % (poly.size() / 2);
+      area += (poly[2 * q] * poly[2 * r + 1] - poly[2 * r] * poly[2 * q + 1]) / 2;
+    }
+    EXPECT_NEAR(signed_volume6(m) / 6, std::abs(area) * 0.5, 1e-12);
+    // The ends meet the sides tangentially: one smooth wall (and -1, the flat caps).
+    std::set<int> groups(m.smoothing.begin(), m.smoothing.end());
+    EXPECT_EQ(groups.size(), 2u);
+  }
+  // A D: its straight back meets the sides at right angles and the sides turn by 31 degrees
+  // into the curved front: four creases, four wall groups (and the caps).
+  const Tree d = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "extrude",
+      "profile": [[-0.6, -0.5], [-0.2, -0.5], [0.2, -0.5], [0.5, -0.5], [0.9, -0.3],
+                  [0.9, 0.3], [0.5, 0.5], [0.2, 0.5], [-0.2, 0.5], [-0.6, 0.5], [-0.6, 0.2],
+                  [-0.6, -0.2]], "height": 0.4}})");
+  const Scene ds = scene_from_tree(d, "d");
+  const TriMesh& dm = ds.primitives[0];
+  EXPECT_EQ(std::set<int>(dm.smoothing.begin(), dm.smoothing.end()).size(), 5u);
+  const Tree cone = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "cone",
+      "radius1": 0.5, "radius2": 0, "height": 1}})");
+  const Scene s = scene_from_tree(cone, "cone");
+  // A 16-sided pyramid: base area 16/2 sin(2 pi/16) r^2, times h / 3.
+  EXPECT_NEAR(signed_volume6(s.primitives[0]) / 6,
+              8 * std::sin(2 * 3.14159265358979 / 16) * 0.25 / 3, 1e-12);
+  EXPECT_EQ(s.primitives[0].vertices.size(), 16u + 1 + 1);  // the ring, its centre, the apex
+  // A self-intersecting profile is refused naming the node.
+  try {
+    scene_from_tree(io::read_tree_string(
+                        R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op":
+        "union", "children": [{"type": "sphere", "radius": 1}, {"type": "extrude", "profile":
+        [[0, 0], [0.3, 0.3], [0.6, 0.6], [1, 1], [1, 0.6], [1, 0.3], [1, 0], [0.6, 0.3],
+         [0.3, 0.6], [0, 1], [0, 0.6], [0, 0.3]], "height": 1}]}})"),
+                    "bow.json");
+    ADD_FAILURE() << "a bow tie was meshed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bow.json: root.children[1]: profile"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(DiffcsgVisibility, BoxTreesAgreeWithTheCrispEvaluatorAlongEveryRay) {

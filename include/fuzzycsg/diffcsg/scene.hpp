@@ -14,8 +14,9 @@
 //              ring on that of `radius2` (DiffCSG's tapered cylinder); a radius that is 0 when
 //              the scene is built is an apex (one vertex) instead of a ring;
 //   extrude    the profile's polygon (core/bezier.hpp, kBezierSamples points per Bézier
-//              segment) as two rings at z = -height/2 and +height/2, the walls between them and
-//              the caps triangulated by ear clipping.
+//              segment) as two rings at z = -height/2 and +height/2, the walls between them
+//              (smooth, but sharp where the profile turns by more than 30 degrees) and the caps
+//              triangulated by ear clipping.
 // The meshes are inscribed in the analytic shapes (a sphere's mesh lies inside its sphere).
 //
 // Every vertex is a function of the tree's parameters, v = t + s R l: t, R, s the leaf's
@@ -38,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/tree.hpp"
 
 namespace fuzzycsg::diffcsg {
@@ -76,7 +78,16 @@ struct TessellationOptions {
   // Leaves (tree node index) tessellated as OpenSCAD does, with this many fragments: spheres
   // and ellipsoids as openscad_sphere(), cylinders and cones with that many sides.
   std::map<int, int> openscad_fragments;
+  // Extrude leaves (tree node index) whose caps keep this triangulation of the profile's
+  // polygon, whatever its points become (fixed_tessellation()); others are triangulated anew.
+  std::map<int, std::vector<PolygonTriangle>> cap_triangles;
 };
+
+// `options` with the caps of every extrude leaf of `tree` triangulated at the tree's present
+// values, so that the meshes keep their connectivity while the parameters change (a
+// refinement). InputError naming the node if a profile cannot be triangulated.
+TessellationOptions fixed_tessellation(const Tree& tree, const std::string& source,
+                                       TessellationOptions options);
 
 // The CSG expression over the primitives: node 0.. with children; leaves name a primitive.
 struct CsgNode {
@@ -118,7 +129,8 @@ struct Scene {
 
 // Throws InputError naming `source` and the node path for a tree that is not 3D, a leaf that
 // is not a box, sphere, ellipsoid, cylinder, cone or extrude, an extrude whose profile cannot
-// be triangulated, or an operator that is not union, intersection, difference or unified.
+// be triangulated (self-intersecting), or an operator that is not union, intersection, difference
+// or unified.
 Scene scene_from_tree(const Tree& tree, const std::string& source,
                       const TessellationOptions& options = {});
 
