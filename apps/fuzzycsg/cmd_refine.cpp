@@ -43,7 +43,7 @@ struct RefineArgs {
   long long seed = 1;
   double lr = 0.01, stop = 5e-4, elevation = 25, distance = 0, fov = 30, cmaes_sigma = 0.1,
          lr_relative = 0;
-  bool no_intersection_aa = false, quiet = false, size_given = false;
+  bool no_intersection_aa = false, quiet = false, size_given = false, shared_only = false;
 };
 
 bool has_extension(const std::string& path, std::initializer_list<const char*> exts) {
@@ -79,7 +79,19 @@ int run_refine(const RefineArgs& a) {
   diffcsg::TessellationOptions tess;
   tess.sphere_subdivisions = a.sphere_subdivisions;
   tess.cylinder_segments = a.cylinder_segments;
-  const diffcsg::OpenscadModel model = read_model(a.model, tess);
+  diffcsg::OpenscadModel model = read_model(a.model, tess);
+  // --shared-only: the program's hyper-parameters alone move (DiffCSG's H-Params).
+  std::vector<bool> was_fixed;
+  for (std::size_t k = 0; k < model.tree.params.size(); ++k) {
+    Parameter& p = model.tree.params.at(k);
+    was_fixed.push_back(p.fixed);
+    if (a.shared_only && !p.shared) p.fixed = true;
+  }
+  if (a.shared_only) {
+    bool any = false;
+    for (const Parameter& p : model.tree.params.entries()) any = any || (p.shared && !p.fixed);
+    if (!any) throw InputError(fmt::format("--shared-only: {} has no free shared parameters", a.model));
+  }
   const diffcsg::Scene model_scene =
       diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
 
@@ -171,7 +183,11 @@ int run_refine(const RefineArgs& a) {
       return true;
     };
   }
-  const diffcsg::RefineResult r = diffcsg::refine(model.tree, target, o, model.tessellation);
+  diffcsg::RefineResult r = diffcsg::refine(model.tree, target, o, model.tessellation);
+  for (std::size_t k = 0; k < r.tree.params.size(); ++k) {  // as the file had them
+    r.tree.params.at(k).fixed = was_fixed[k];
+    model.tree.params.at(k).fixed = was_fixed[k];
+  }
 
   const std::filesystem::path out(a.out);
   const diffcsg::Camera& check = target.cameras[0];
@@ -206,6 +222,7 @@ int run_refine(const RefineArgs& a) {
                         {"lr_relative", a.lr_relative},
                         {"stop", a.stop},
                         {"random_views", a.random_views},
+                        {"shared_only", a.shared_only},
                         {"seed", a.seed},
                         {"intersection_aa", !a.no_intersection_aa},
                         {"fov", check.fov_deg},
@@ -305,6 +322,8 @@ Verb register_refine(CLI::App& app) {
   cmd->add_option("--fov", a->fov, "Vertical field of view, degrees")->capture_default_str();
   cmd->add_flag("--no-intersection-aa", a->no_intersection_aa,
                 "Antialias silhouettes only (DiffCSG's ablation)");
+  cmd->add_flag("--shared-only", a->shared_only,
+                "Move only the tree's shared parameters (the program's hyper-parameters)");
   cmd->add_option("--sphere-subdivisions", a->sphere_subdivisions,
                   "Tree models: icosahedron subdivisions of spheres")
       ->capture_default_str();
