@@ -82,3 +82,24 @@ for name, path in zip(["edited mesh", "edited picture"], sys.argv[1:]):
     print(f"{name}: {r['steps']} steps, {r['seconds']:.1f} s, converged {r['converged']}; " +
           ", ".join(f"{k} {a:.3f} -> {b:.3f}" for k, (a, b) in sorted(moved.items())))
 PY
+
+echo "== 3. gradient images"
+# DiffCSG Fig. 9: the colour image's derivative with respect to the subtracted ball's x
+# position, by the renderer's gradients with and without intersection-edge antialiasing, and by
+# central differences; all on one colour scale.
+for mode in analytic no-aa fd; do
+  args=()
+  [[ $mode == no-aa ]] && args=(--no-intersection-aa)
+  [[ $mode == fd ]] && args=(--finite-difference 3e-3)
+  "$fuzzycsg" raster examples/box_less_ball.json -o "$out/gradient-ball-x-$mode.png" --size 256 \
+    --camera 40,35,0 --colors --gradient "root.children[1].translate[0]" --gradient-scale 20 \
+    "${args[@]}"
+done
+"$fuzzycsg" raster examples/box_less_ball.json -o "$out/gradient-ball-model.png" --shaded \
+  --size 256 --camera 40,35,0 -q
+# DiffCSG Fig. 1: per-parameter gradients of a program's loss against an edited target (the
+# edited picture of part 2), one picture per hyper-parameter.
+for p in leg_height hole_radius; do
+  "$fuzzycsg" raster examples/table.json -o "$out/gradient-table-$p.png" --colors --size 256 \
+    --camera 30,20,0 --gradient "$p" --target "$tmp/view.json"
+done

@@ -470,6 +470,22 @@ fi
 expect_error "colours: a mesh has no primitives" "$bin" refine "$tmp/prog.json" \
   --target "$data.ref.off" -o "$tmp/ref10" --shading colours
 if [[ ! -e "$tmp/ref7" && ! -e "$tmp/ref8" && ! -e "$tmp/ref10" ]]; then ok; else bad "refine error left a directory"; fi
+# A model pushed out of every view: said on one line, exit status 1, the last parameters that
+# showed it written.
+cat >"$tmp/ball.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "sphere", "radius": 0.3}}
+JSON
+sed 's/0.3}/0.35}/' "$tmp/ball.json" >"$tmp/ball2.json"
+"$bin" refine "$tmp/ball.json" --target "$tmp/ball2.json" -o "$tmp/ref11" --lr 50 --size 32 \
+  --views 1 -q 2>"$tmp/err"
+rc=$?
+if [[ $rc -eq 1 && $(wc -l <"$tmp/err") -eq 1 ]] && grep -q "vanished from every view at step 1" "$tmp/err" &&
+  python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["vanished"]
+t=json.load(open(sys.argv[2])); assert t["root"]["radius"] == 0.3, t' "$tmp/ref11/report.json" "$tmp/ref11/tree.json"; then
+  ok
+else
+  bad "refine of a vanishing model: rc $rc, $(cat "$tmp/err")"
+fi
 # Gradient images: analytic and by differences, the same total.
 g1=$("$bin" raster "$tmp/prog.json" -o "$tmp/g1.png" --size 40 --gradient "root.children[1].radius" \
   --target "$tmp/goal.json")

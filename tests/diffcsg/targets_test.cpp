@@ -207,6 +207,44 @@ TEST(DiffcsgTargets, NormalsCarryASpheresSizeEvenWithoutIntersectionEdges) {
   EXPECT_NEAR(radius_of(edges.tree), 0.55, 0.03);
 }
 
+// DiffCSG Fig. 10: a block with a notch cut by a box seen only as the notch's walls. The box
+// must grow (top) or move (bottom); only intersection edges say so.
+Tree notch(double size, double dx) {
+  return tree_of(R"({"op": "difference", "children": [{"type": "box", "size": [1.2, 1, 0.8],
+      "rotate": [0, 0, 10]}, {"type": "box", "size": [)" +
+                 std::to_string(size) + ", " + std::to_string(size) + ", " + std::to_string(size) +
+                 R"(], "translate": [)" + std::to_string(0.5 + dx) +
+                 R"(, 0.45, 0.35], "rotate": [8, 5, 20]}]})");
+}
+
+TEST(DiffcsgTargets, ANotchIsFoundOnlyWithIntersectionEdges) {
+  for (const bool grow : {true, false}) {
+    SCOPED_TRACE(grow ? "the box grows" : "the box moves");
+    const Tree start = notch(0.6, 0), goal = grow ? notch(0.66, 0) : notch(0.6, 0.05);
+    for (const bool aa : {true, false}) {
+      RefineOptions o;
+      o.iterations = 150;
+      o.lr = 0.005;
+      o.stop_mse = 2e-5;  // well below the notch's own error (about 1e-3)
+      o.intersection_aa = aa;
+      const RefineResult r = refine(start, target_of(goal, Shading::kColours, 2, 64), o);
+      double moved = 0;
+      for (std::size_t k = 0; k < start.params.size(); ++k) {
+        moved = std::max(moved, std::abs(r.tree.params.at(k).value - start.params.at(k).value));
+      }
+      std::printf("%s, %s: %d steps, check MSE %g -> %g\n", grow ? "grow" : "move",
+                  aa ? "intersection edges" : "silhouettes only", r.steps,
+                  r.check_mse.front().second, r.check_mse.back().second);
+      if (aa) {
+        EXPECT_TRUE(r.converged);
+      } else {
+        EXPECT_FALSE(r.converged);
+        EXPECT_EQ(moved, 0.0);  // no gradient at all: the refinement stalls where it began
+      }
+    }
+  }
+}
+
 TEST(DiffcsgTargets, RandomViewsAndAMeshTargetRecoverABox) {
   const fs::path dir = temp_dir("refine_mesh");
   const std::string box = R"({"type": "box", "size": [%g, 0.8, 0.6], "translate": [%g, 0, 0]})";
