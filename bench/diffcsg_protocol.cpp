@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
   std::vector<double> sigmas{0.05, 0.1, 0.2, 0.3};
   std::vector<std::string> methods{"diffcsg", "cmaes", "fuzzy"};
   int trials = 2, size = 256, iters = 1000, threads = 0;
-  double stop = 5e-4, lr_relative = 0.01;
+  double stop = 5e-4, lr_relative = 0.002;
   app.add_option("--models", models, "OpenSCAD .csg files")->delimiter(',')->required();
   app.add_option("--sigmas", sigmas, "Perturbation levels")->delimiter(',');
   app.add_option("--methods", methods, "diffcsg, cmaes, fuzzy")->delimiter(',');
