@@ -46,14 +46,11 @@ struct RasterArgs {
   std::vector<double> camera{30, 25, 0};
   std::vector<int> size{512};
   double fov = 30, finite_difference = 0, gradient_scale = 0;
-  bool colors = false, normals = false, shaded = false, quiet = false,
-       no_intersection_aa = false;
+  bool colors = false, normals = false, shaded = false, quiet = false, no_intersection_aa = false;
   int sphere_subdivisions = 2, cylinder_segments = 16, threads = 0;
 };
 
-bool is_csg(const std::string& path) {
-  return std::filesystem::path(path).extension() == ".csg";
-}
+bool is_csg(const std::string& path) { return std::filesystem::path(path).extension() == ".csg"; }
 
 // Per-pixel values as a diverging picture: blue negative, white 0, red positive, saturating at
 // `scale`.
@@ -120,10 +117,9 @@ int run_raster(const RasterArgs& a) {
     model = is_csg(a.model) ? diffcsg::read_openscad_csg_tree(a.model)
                             : diffcsg::OpenscadModel{io::read_tree_file(a.model), t};
   }
-  const diffcsg::Scene scene = model
-                                   ? diffcsg::scene_from_tree(model->tree, a.model,
-                                                              model->tessellation)
-                                   : diffcsg::read_openscad_csg(a.model);
+  const diffcsg::Scene scene =
+      model ? diffcsg::scene_from_tree(model->tree, a.model, model->tessellation)
+            : diffcsg::read_openscad_csg(a.model);
   // Aimed at the centre of the primitives' bounding box; by default far enough for its
   // bounding sphere to fill the view.
   const auto [lo, hi] = scene.bounds();
@@ -186,7 +182,8 @@ int run_raster(const RasterArgs& a) {
             cam, shading, a.threads);
         if (target) return pixel_losses(img, *target, *loss);
         std::vector<double> sum(pixels, 0.0);
-        for (std::size_t p = 0; p < pixels; ++p) sum[p] = img.at(p)[0] + img.at(p)[1] + img.at(p)[2];
+        for (std::size_t p = 0; p < pixels; ++p)
+          sum[p] = img.at(p)[0] + img.at(p)[1] + img.at(p)[2];
         return sum;
       };
       const std::vector<double> up = image_at(a.finite_difference),
@@ -227,9 +224,10 @@ int run_raster(const RasterArgs& a) {
     }
     io::write_text_file_atomic(a.out, gradient_png(values, w, h, scale));
     if (!a.quiet) {
-      fmt::print("raster: gradient of {} ({}): total {:.6g}, {} pixels non-zero, colour scale "
-                 "{:.3g}, to {}\n",
-                 a.gradient, method, total, magnitude.size(), scale, a.out);
+      fmt::print(
+          "raster: gradient of {} ({}): total {:.6g}, {} pixels non-zero, colour scale "
+          "{:.3g}, to {}\n",
+          a.gradient, method, total, magnitude.size(), scale, a.out);
     }
     return 0;
   }
@@ -258,9 +256,8 @@ int run_raster(const RasterArgs& a) {
   io::write_text_file_atomic(a.out, png);
   if (!a.save_views.empty()) {
     const std::filesystem::path views(a.save_views), image(a.out);
-    const std::filesystem::path rel =
-        std::filesystem::absolute(image).lexically_relative(
-            std::filesystem::absolute(views).parent_path());
+    const std::filesystem::path rel = std::filesystem::absolute(image).lexically_relative(
+        std::filesystem::absolute(views).parent_path());
     io::write_text_file_atomic(views, diffcsg::views_json(shading, {cam}, {rel.generic_string()}));
   }
   if (f.visible_pixels() == 0) {

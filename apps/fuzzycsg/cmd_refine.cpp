@@ -90,7 +90,8 @@ int run_refine(const RefineArgs& a) {
   if (a.shared_only) {
     bool any = false;
     for (const Parameter& p : model.tree.params.entries()) any = any || (p.shared && !p.fixed);
-    if (!any) throw InputError(fmt::format("--shared-only: {} has no free shared parameters", a.model));
+    if (!any)
+      throw InputError(fmt::format("--shared-only: {} has no free shared parameters", a.model));
   }
   const diffcsg::Scene model_scene =
       diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
@@ -155,6 +156,15 @@ int run_refine(const RefineArgs& a) {
       return diffcsg::render_image(*target_scene, c, sh, threads);
     };
     for (const diffcsg::Camera& c : target.cameras) target.images.push_back(target.render(c));
+  }
+  // Cameras that see nothing of the model are bad input, found before anything is written.
+  int seen = 0;
+  for (const diffcsg::Camera& c : target.cameras) {
+    seen += diffcsg::render_visibility(model_scene, c, a.threads).visible_pixels();
+  }
+  if (seen == 0) {
+    throw InputError(fmt::format("{}: no view sees the model {} (the cameras see nothing of it)",
+                                 a.target, a.model));
   }
   prepare_output_dir(a.out);
 

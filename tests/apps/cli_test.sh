@@ -450,6 +450,17 @@ expect_error "views.json: view 0's image is 48x48, --size 64" "$bin" refine "$tm
   --target "$tmp/views.json" -o "$tmp/ref7" --size 64
 expect_error "--random-views" "$bin" refine "$tmp/prog.json" --target "$tmp/views.json" \
   -o "$tmp/ref8" --random-views 5
+# Cameras that see nothing of the model: a views file looking away from it.
+python3 - "$tmp/views.json" "$tmp/away.json" <<'PY'
+import json, sys
+v = json.load(open(sys.argv[1]))
+v["views"][0]["image"] = "goal.png"
+v["views"][0]["target"] = [2 * e for e in v["views"][0]["eye"]]
+json.dump(v, open(sys.argv[2], "w"))
+PY
+expect_error "no view sees the model" "$bin" refine "$tmp/prog.json" --target "$tmp/away.json" \
+  -o "$tmp/ref12"
+[[ -e "$tmp/ref12" ]] && bad "refine with blind cameras left a directory" || ok
 # An OpenSCAD model refined against a mesh of itself moved: its .csg read as a tree.
 data="$src/../shared/data/scad/Old/example004"
 if [[ -f "$data.openscad.csg" ]]; then
