@@ -429,13 +429,27 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       }
       const bool now = evaluate();
       if (!was && now) {
-        std::size_t shown = k;  // a crossing that enters or leaves, if there is one
-        for (std::size_t q = k; q < e; ++q) {
-          if (crossings[q].sign != 0) {
-            shown = q;
-            break;
+        // The surface shown: of the crossings that enter or leave, the first the solid needs
+        // (without it, the point would still be outside: of two coplanar faces, the one that
+        // bounds the solid, not a subtracted primitive's face that merely lies in its plane);
+        // else the first that enters or leaves; else the first.
+        std::size_t shown = e;
+        if (e - k > 1) {
+          for (std::size_t q = k; q < e && shown == e; ++q) {
+            if (crossings[q].sign == 0) continue;
+            const unsigned g = crossings[q].geometry;
+            const std::uint8_t with = inside[g];
+            inside[g] = winding[g] - crossings[q].sign > 0;
+            if (table) mask = (mask & ~(std::uint64_t{1} << g)) | (std::uint64_t{inside[g]} << g);
+            if (!evaluate()) shown = q;
+            inside[g] = with;
+            if (table) mask = (mask & ~(std::uint64_t{1} << g)) | (std::uint64_t{with} << g);
           }
         }
+        for (std::size_t q = k; q < e && shown == e; ++q) {
+          if (crossings[q].sign != 0) shown = q;
+        }
+        if (shown == e) shown = k;
         const Hit& h = hits[crossings[shown].hit];
         Vec3 n = unit_normal[first_face[h.geometry] + h.triangle];
         if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};

@@ -1,7 +1,8 @@
 #pragma once
 // The forward visibility as it was first written (one ray at a time, a fresh Embree device per
-// frame, the tree evaluated recursively at every crossing): the reference that the faster
-// render_visibility must reproduce to the bit.
+// frame, the tree evaluated recursively at every crossing), with one later change (the surface
+// shown where coplanar faces of several primitives are crossed at once): the reference that
+// the faster render_visibility must reproduce to the bit.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -209,13 +210,23 @@ inline Frame reference_visibility(const Scene& scene, const Camera& camera, int 
                 }
                 const bool now = scene.solid(inside);
                 if (!solid && now) {
-                  std::size_t shown = k;  // a crossing that enters or leaves, if there is one
-                  for (std::size_t q = k; q < e; ++q) {
-                    if (crossings[q].sign != 0) {
-                      shown = q;
-                      break;
-                    }
+                  // Of the crossings that enter or leave, the first the solid needs; else the
+                  // first that enters or leaves; else the first. (The first implementation took
+                  // the first that enters or leaves: the rule changed after OpenCSG showed a
+                  // bar's top where a subtracted cylinder's coplanar cap had been shown.)
+                  std::size_t shown = e;
+                  for (std::size_t q = k; q < e && shown == e && e - k > 1; ++q) {
+                    if (crossings[q].sign == 0) continue;
+                    const unsigned g = crossings[q].geometry;
+                    const std::uint8_t with = inside[g];
+                    inside[g] = winding[g] - crossings[q].sign > 0;
+                    if (!scene.solid(inside)) shown = q;
+                    inside[g] = with;
                   }
+                  for (std::size_t q = k; q < e && shown == e; ++q) {
+                    if (crossings[q].sign != 0) shown = q;
+                  }
+                  if (shown == e) shown = k;
                   const Hit& h = hits[crossings[shown].hit];
                   const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
                   const TriMesh& m = scene.primitives[h.geometry];

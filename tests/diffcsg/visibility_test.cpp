@@ -195,6 +195,31 @@ TEST(DiffcsgVisibility, TreesItCannotDrawAreRefusedNamingTheNode) {
       "3D");
 }
 
+TEST(DiffcsgVisibility, OfCoplanarFacesTheOneThatBoundsTheSolidIsShown) {
+  // A bar through a cube's bore; the bar's ends are coplanar with the bore's cylinder's caps
+  // (z = +-1.5), which are no surface of the solid.
+  const Scene scene = parse_openscad_csg(
+      "union() { difference() { cube(size = [2, 2, 2], center = true);"
+      " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
+      " cube(size = [0.5, 0.5, 3], center = true); }",
+      "bar");
+  const Camera cam = Camera::orbit({0, 0, 0}, 30, 50, 9, 128, 128, 30);
+  const Frame f = render_visibility(scene, cam, 2);
+  int bar_top = 0, cylinder_cap = 0;
+  for (int j = 0; j < f.height; ++j) {
+    for (int i = 0; i < f.width; ++i) {
+      const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
+      if (f.primitive[px] < 0) continue;
+      const double z = cam.eye[2] + f.depth[px] * cam.ray(i, j)[2];
+      if (std::abs(z - 1.5) > 1e-4) continue;
+      bar_top += f.primitive[px] == 2;
+      cylinder_cap += f.primitive[px] == 1;
+    }
+  }
+  EXPECT_GT(bar_top, 20);
+  EXPECT_EQ(cylinder_cap, 0);
+}
+
 // Bitwise equality of two frames (a float's every bit, so -0 and 0 differ).
 template <class T>
 int differing(const std::vector<T>& a, const std::vector<T>& b) {

@@ -134,6 +134,15 @@ TEST(OpencsgRenderer, BoxMinusCylinder) {
         "box - cylinder", 2);
 }
 
+TEST(OpencsgRenderer, ABarThroughABoreWithCoplanarEnds) {
+  // The bar's ends are coplanar with the bore's caps: the bar's are shown.
+  check(scad("union() { difference() { cube(size = [2, 2, 2], center = true);"
+             " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
+             " cube(size = [0.5, 0.5, 3], center = true); }",
+             "bar through a bore"),
+        "bar through a bore", 3);
+}
+
 TEST(OpencsgRenderer, BoxAndSphereIntersected) {
   check(scad("intersection() { cube(size = [1.6, 1.6, 1.6], center = true);"
              " sphere($fn = 24, r = 1); }",
