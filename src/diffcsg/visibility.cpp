@@ -11,6 +11,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <thread>
@@ -275,7 +276,13 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
   }
   const int n_threads =
       threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  tbb::task_arena arena(n_threads);
+  // An arena per thread count, kept by each calling thread: a fresh arena for every frame is
+  // often left to its calling thread alone (TBB's worker, still leaving the last one, does not
+  // join it), which halved the speed of back-to-back frames on 2 cores.
+  thread_local std::map<int, std::unique_ptr<tbb::task_arena>> arenas;
+  std::unique_ptr<tbb::task_arena>& slot = arenas[n_threads];
+  if (!slot) slot = std::make_unique<tbb::task_arena>(n_threads);
+  tbb::task_arena& arena = *slot;
   arena.execute([&] { rtcCommitScene(rtc.get()); });
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw Error("Embree: scene build failed");
 
