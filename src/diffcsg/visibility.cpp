@@ -2,12 +2,14 @@
 
 #include <embree3/rtcore.h>
 #include <fmt/core.h>
+#include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -177,6 +179,18 @@ class Solid {
   std::vector<std::uint8_t> table_;
 };
 
+// floor and ceil to int, clamped to +-2^30 (pixel coordinates; without a call to libm).
+int floor_int(double x) {
+  x = std::clamp(x, -1073741824.0, 1073741824.0);
+  const int i = static_cast<int>(x);
+  return i - (x < i);
+}
+int ceil_int(double x) {
+  x = std::clamp(x, -1073741824.0, 1073741824.0);
+  const int i = static_cast<int>(x);
+  return i + (x > i);
+}
+
 // Per-thread scratch, reused across pixels and frames' tiles.
 struct Scratch {
   std::vector<Hit> hits[kPacket];
@@ -328,6 +342,148 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       if (r[0] <= r[2]) rects.push_back(r);
     }
   }
+  // Rays that pass near an edge of a triangle on the screen. Embree's packet kernel and its
+  // single-ray kernel compute the same hits with the same bits, but may decide differently
+  // whether a ray through an edge hits (an edge test within rounding of 0: both are watertight,
+  // but round differently). A ray that near a projected edge is traced alone, with the
+  // single-ray kernel, as the first implementation traced every ray. An edge test is the side of
+  // the plane through the eye and the edge: the kernels shift the vertices by the eye alike, and
+  // may then differ by some 6 roundings of a cross product of the edge and a vertex, over the
+  // sine of the angle between them (1 over the edge's foreshortening); float's rounding of the
+  // vertices, the eye and the ray's direction moves that plane from the one projected here. The
+  // band's half-width is 4 times their sum, and at least 1/1000 pixel; rays farther than that
+  // from every edge of a triangle are inside or outside it for both kernels. If a vertex is near
+  // or behind the camera's plane, every ray is traced alone.
+  bool all_alone = false;
+  thread_local std::vector<std::uint8_t> alone_buffer;
+  std::vector<std::uint8_t>& alone = alone_buffer;
+  alone.assign(pixels, 0);
+  {
+    const double kx = f.width / (2 * basis.half * basis.aspect), ky = f.height / (2 * basis.half);
+    // Pixels per radian, at worst (the image's corners).
+    const double per_radian =
+        std::max(kx, ky) * (1 + basis.half * basis.half * (1 + basis.aspect * basis.aspect));
+    const double eye_norm = std::sqrt(dot(camera.eye, camera.eye));
+    constexpr double kEps = 6e-8;          // float's relative rounding
+    const auto mark = [&](int i, int j) {  // (tasks may mark one pixel at once)
+      if (i >= 0 && j >= 0 && i < f.width && j < f.height) {
+        std::atomic_ref<std::uint8_t>(alone[static_cast<std::size_t>(j) * f.width + i])
+            .store(1, std::memory_order_relaxed);
+      }
+    };
+    // Every pixel centre within w (pixels) of segment a-b.
+    const auto band = [&](double ax, double ay, double bx, double by, double w) {
+      const bool steep = std::abs(by - ay) > std::abs(bx - ax);
+      if (steep) {
+        std::swap(ax, ay);
+        std::swap(bx, by);
+      }
+      if (ax > bx) {
+        std::swap(ax, bx);
+        std::swap(ay, by);
+      }
+      const double slope = bx > ax ? (by - ay) / (bx - ax) : 0;
+      const double reach = w * (1 + std::abs(slope));  // >= w sqrt(1 + slope^2)
+      const int last = steep ? f.height : f.width, across = steep ? f.width : f.height;
+      for (int c = std::max(ceil_int(ax - w - 0.5), -1);
+           c <= std::min(floor_int(bx + w - 0.5), last); ++c) {
+        const double x = std::clamp(c + 0.5, ax, bx), y = ay + (x - ax) * slope;
+        if (reach < 0.5) {  // at most the nearest centre, row floor(y)
+          const int r = floor_int(y);
+          if (std::abs(r + 0.5 - y) <= reach) steep ? mark(r, c) : mark(c, r);
+          continue;
+        }
+        for (int r = std::max(ceil_int(y - reach - 0.5), -1);
+             r <= std::min(floor_int(y + reach - 0.5), across); ++r) {
+          steep ? mark(r, c) : mark(c, r);
+        }
+      }
+    };
+    // Every vertex on the screen, once.
+    struct Projected {
+      double sx, sy, zc, norm;
+    };
+    // (thread_local buffers are named through references: a lambda run by a worker thread
+    // would otherwise see its own.)
+    thread_local std::vector<Projected> projected_buffer;
+    std::vector<Projected>& projected = projected_buffer;
+    std::vector<std::size_t> first_vertex(np + 1, 0);
+    for (std::size_t p = 0; p < np; ++p) {
+      first_vertex[p + 1] = first_vertex[p] + scene.primitives[p].vertices.size();
+    }
+    projected.resize(first_vertex[np]);
+    for (std::size_t p = 0; p < np && !all_alone; ++p) {
+      const TriMesh& m = scene.primitives[p];
+      for (std::size_t v = 0; v < m.vertices.size(); ++v) {
+        const Vec3 d = sub(m.vertices[v], camera.eye);
+        const double zc = dot(d, basis.forward);
+        if (!(zc > 1e-3 * std::sqrt(dot(d, d)))) {
+          all_alone = true;
+          break;
+        }
+        projected[first_vertex[p] + v] = {f.width / 2.0 + kx * dot(d, basis.right) / zc,
+                                          f.height / 2.0 - ky * dot(d, basis.up) / zc, zc,
+                                          std::sqrt(dot(m.vertices[v], m.vertices[v]))};
+      }
+    }
+    const auto mark_triangle = [&](std::size_t p, std::size_t t) {
+      const TriMesh& m = scene.primitives[p];
+      const auto& tri = m.triangles[t];
+      const Projected* q[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        q[k] = &projected[first_vertex[p] + static_cast<std::size_t>(tri[k])];
+      }
+      // Edge k joins vertices k + 1 and k + 2: its length on the screen and its band's
+      // half-width.
+      double len[3], w[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t ia = (k + 1) % 3, ib = (k + 2) % 3;
+        const Projected &a = *q[ia], &b = *q[ib];
+        len[k] = std::sqrt((b.sx - a.sx) * (b.sx - a.sx) + (b.sy - a.sy) * (b.sy - a.sy));
+        const Vec3 e = sub(m.vertices[static_cast<std::size_t>(tri[ib])],
+                           m.vertices[static_cast<std::size_t>(tri[ia])]);
+        const double edge = std::sqrt(dot(e, e)), near = std::min(a.zc, b.zc);
+        // The edge's length over its length across the view (from its length on the screen),
+        // and float's rounding of the vertices and the eye against the distance.
+        const double foreshortening =
+            1 + edge * per_radian / (near * std::max(len[k], 1e-9 * per_radian));
+        const double angle =
+            4 * kEps * (6 * foreshortening + (eye_norm + std::max(a.norm, b.norm)) / near + 1);
+        w[k] = 1e-3 + angle * per_radian;
+        // Each edge of a closed mesh once, from the triangle that runs it upwards.
+        if (tri[ia] < tri[ib]) band(a.sx, a.sy, b.sx, b.sy, w[k]);
+      }
+      // Beyond vertex v, both its edges' tests are near 0 along their lines for w over the
+      // sine of its angle on the screen (across the screen for a triangle seen edge on).
+      const double area2 = std::abs((q[1]->sx - q[0]->sx) * (q[2]->sy - q[0]->sy) -
+                                    (q[1]->sy - q[0]->sy) * (q[2]->sx - q[0]->sx));
+      for (std::size_t v = 0; v < 3; ++v) {
+        const std::size_t e1 = (v + 1) % 3, e2 = (v + 2) % 3;  // the edges at v
+        const double sine = len[e1] * len[e2] > 0 ? area2 / (len[e1] * len[e2]) : 0;
+        for (const std::size_t e : {e1, e2}) {
+          const Projected& o = *q[e == e1 ? e2 : e1];  // the edge's other end
+          const double reach = std::min(w[e] / std::max(sine, 1e-300), 2.0 * (f.width + f.height));
+          if (reach <= w[e] || len[e] <= 0) continue;  // within the band's end already
+          const double ux = (q[v]->sx - o.sx) / len[e], uy = (q[v]->sy - o.sy) / len[e];
+          band(q[v]->sx, q[v]->sy, q[v]->sx + reach * ux, q[v]->sy + reach * uy, w[e]);
+        }
+      }
+    };
+    if (!all_alone) {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, first_face[np], 256),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            std::size_t p = static_cast<std::size_t>(
+                                std::upper_bound(first_face.begin(), first_face.end(), r.begin()) -
+                                first_face.begin() - 1);
+                            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              while (i >= first_face[p + 1]) ++p;
+                              mark_triangle(p, i - first_face[p]);
+                            }
+                          });
+      });
+    }
+  }
   // Whether a rectangle covers a pixel centre of columns [i0, i1) and rows [j0, j1).
   const auto overlaps = [](const std::array<double, 4>& r, int i0, int i1, int j0, int j1) {
     return r[0] <= i1 - 0.5 && r[2] >= i0 + 0.5 && r[1] <= j1 - 0.5 && r[3] >= j0 + 0.5;
@@ -349,6 +505,16 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
     f.depth[px] = std::numeric_limits<float>::infinity();
     f.barycentric[px] = {0, 0};
     f.normal[px] = {0, 0, 0};
+  };
+  // Hit h is the visible surface at pixel px (ray direction d).
+  const auto show = [&](const Hit& h, const Vec3& d, std::size_t px) {
+    Vec3 n = unit_normal[first_face[h.geometry] + h.triangle];
+    if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
+    f.primitive[px] = static_cast<int>(h.geometry);
+    f.triangle[px] = static_cast<int>(h.triangle);
+    f.depth[px] = h.t;
+    f.barycentric[px] = {h.u, h.v};
+    f.normal[px] = {static_cast<float>(n[0]), static_cast<float>(n[1]), static_cast<float>(n[2])};
   };
   // The visible surface of one pixel from every hit along its ray (direction d).
   const auto shade = [&](Scratch& s, std::vector<Hit>& hits, const Vec3& d, std::size_t px) {
@@ -391,6 +557,39 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       h.sign = static_cast<int>(side < 0) - static_cast<int>(side > 0);
     }
     const float scale = std::max(1.0f, hits.back().t);
+    int* winding = s.winding.data();
+    const bool table = solid.tabulated();
+    // The common case: no two hits at one depth, and a tabulated tree. Each hit is a crossing
+    // of its own; the same walk as below, without its bookkeeping.
+    bool single = table;
+    for (std::size_t k = 1; k < hits.size() && single; ++k) {
+      single = !(hits[k].t - hits[k - 1].t <= 1e-6f * scale);
+    }
+    if (single) {
+      for (const Hit& h : hits) winding[h.geometry] -= h.sign;
+      std::uint64_t mask = 0;
+      for (const Hit& h : hits) mask |= std::uint64_t{winding[h.geometry] > 0} << h.geometry;
+      bool was = solid(mask);
+      const Hit* shown = nullptr;
+      for (const Hit& h : hits) {
+        winding[h.geometry] += h.sign;
+        mask = (mask & ~(std::uint64_t{1} << h.geometry)) |
+               (std::uint64_t{winding[h.geometry] > 0} << h.geometry);
+        const bool now = solid(mask);
+        if (!was && now) {
+          shown = &h;
+          break;
+        }
+        was = now;
+      }
+      for (const Hit& h : hits) winding[h.geometry] = 0;
+      if (shown == nullptr) {
+        background(px);
+        return;
+      }
+      show(*shown, d, px);
+      return;
+    }
     std::vector<Crossing>& crossings = s.crossings;
     crossings.clear();
     for (std::size_t k = 0; k < hits.size();) {
@@ -413,11 +612,9 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       }
       k = e;
     }
-    int* winding = s.winding.data();
     std::uint8_t* inside = s.inside.data();
     for (const Crossing& x : crossings) winding[x.geometry] -= x.sign;
     std::uint64_t mask = 0;
-    const bool table = solid.tabulated();
     for (const Crossing& x : crossings) {
       inside[x.geometry] = winding[x.geometry] > 0;
       if (table && inside[x.geometry]) mask |= std::uint64_t{1} << x.geometry;
@@ -457,15 +654,7 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
           if (crossings[q].sign != 0) shown = q;
         }
         if (shown == e) shown = k;
-        const Hit& h = hits[crossings[shown].hit];
-        Vec3 n = unit_normal[first_face[h.geometry] + h.triangle];
-        if (dot(n, d) > 0) n = {-n[0], -n[1], -n[2]};
-        f.primitive[px] = static_cast<int>(h.geometry);
-        f.triangle[px] = static_cast<int>(h.triangle);
-        f.depth[px] = h.t;
-        f.barycentric[px] = {h.u, h.v};
-        f.normal[px] = {static_cast<float>(n[0]), static_cast<float>(n[1]),
-                        static_cast<float>(n[2])};
+        show(hits[crossings[shown].hit], d, px);
         shown_any = true;
         break;
       }
@@ -499,6 +688,7 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
     Collector c;
     c.hits = s.hits;
     alignas(64) int valid[K];
+    bool traced[K];
     Vec3 dirs[K];
     std::size_t where[K];
     // The rays' directions as RayBasis::ray computes them, lane by lane in separate arrays
@@ -541,12 +731,42 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       rays.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       rays.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    rtcInitIntersectContext(&c.context);
-    c.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    c.context.filter = collect;
-    rtcIntersect16(valid, rtc.get(), &c.context, &rays);
+    bool packet = false;
     for (int k = 0; k < K; ++k) {
-      if (valid[k]) shade(s, s.hits[k], dirs[k], where[k]);
+      traced[k] = valid[k] != 0;
+      if (traced[k] && (all_alone || alone[where[k]])) valid[k] = 0;
+      packet = packet || valid[k] != 0;
+    }
+    if (packet) {
+      rtcInitIntersectContext(&c.context);
+      c.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      c.context.filter = collect;
+      rtcIntersect16(valid, rtc.get(), &c.context, &rays);
+    }
+    for (int k = 0; k < K; ++k) {
+      if (!traced[k]) continue;
+      if (!valid[k]) {
+        // Alone, as the first implementation traced every ray.
+        rtcInitIntersectContext(&c.context);
+        c.context.filter = collect;
+        RTCRayHit rh;
+        rh.ray.org_x = eye[0];
+        rh.ray.org_y = eye[1];
+        rh.ray.org_z = eye[2];
+        rh.ray.dir_x = static_cast<float>(dirs[k][0]);
+        rh.ray.dir_y = static_cast<float>(dirs[k][1]);
+        rh.ray.dir_z = static_cast<float>(dirs[k][2]);
+        rh.ray.tnear = 0;
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.ray.time = 0;
+        rh.ray.mask = ~0u;
+        rh.ray.id = static_cast<unsigned>(k);
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(rtc.get(), &c.context, &rh);
+      }
+      shade(s, s.hits[k], dirs[k], where[k]);
     }
   };
 

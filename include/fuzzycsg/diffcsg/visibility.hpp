@@ -9,9 +9,11 @@
 // within 1e-6 of each other (relative to the ray's length, at least 1) are taken together
 // (coplanar faces, shared edges). Meshes must be closed with outward normals (scene.hpp's are).
 //
-// The rays go to Embree in packets of 4 x 4 pixels over tiles of 16 x 16 (one task each), and
-// pixels outside every primitive's rectangle on the screen are not traced; the frame is, to the
-// bit, the one of tracing every pixel's ray alone (tests/diffcsg/visibility_reference.hpp).
+// The rays go to Embree in packets of 4 x 4 pixels over tiles of 16 x 16 (one task each);
+// pixels outside every primitive's rectangle on the screen are not traced, and rays within
+// float rounding of a triangle's edge on the screen are traced alone (Embree's packet and
+// single-ray kernels may decide such a hit differently). The frame is, to the bit, the one of
+// tracing every pixel's ray alone (tests/diffcsg/visibility_reference.hpp).
 
 #include <array>
 #include <cstdint>
