@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
   libassimp-dev libembree-dev libstb-dev libnanoflann-dev libgraphviz-dev libgif-dev
   openscad
+  libopencsg-dev libglew-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
 )
 # The PyTorch baseline of the benchmarks is optional for building and testing.
 if [[ "${FUZZYCSG_WITH_TORCH:-0}" == "1" ]]; then

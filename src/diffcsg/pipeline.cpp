@@ -40,7 +40,7 @@ ViewPass render_view(const PreparedScene& s, const Camera& camera, Shading shadi
 void render_view(const PreparedScene& s, const Camera& camera, Shading shading, int threads,
                  ViewPass& pass) {
   auto t0 = Clock::now();
-  pass.frame = render_visibility(s.scene, camera, threads);
+  render_visibility(s.scene, camera, pass.frame, threads);
   pass.seconds_visibility = since(t0);
   t0 = Clock::now();
   shade(s.scene, s.normals, camera, pass.frame, shading, pass.shaded, &pass.record);

@@ -5,14 +5,18 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
 #include <string>
 
+#include "diffcsg/visibility_reference.hpp"
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
@@ -267,6 +271,145 @@ TEST(DiffcsgVisibility, TreesItCannotDrawAreRefusedNamingTheNode) {
   refused(
       R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 1}})",
       "3D");
+}
+
+TEST(DiffcsgVisibility, OfCoplanarFacesTheOneThatBoundsTheSolidIsShown) {
+  // A bar through a cube's bore; the bar's ends are coplanar with the bore's cylinder's caps
+  // (z = +-1.5), which are no surface of the solid.
+  const Scene scene = parse_openscad_csg(
+      "union() { difference() { cube(size = [2, 2, 2], center = true);"
+      " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
+      " cube(size = [0.5, 0.5, 3], center = true); }",
+      "bar");
+  const Camera cam = Camera::orbit({0, 0, 0}, 30, 50, 9, 128, 128, 30);
+  const Frame f = render_visibility(scene, cam, 2);
+  int bar_top = 0, cylinder_cap = 0;
+  for (int j = 0; j < f.height; ++j) {
+    for (int i = 0; i < f.width; ++i) {
+      const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
+      if (f.primitive[px] < 0) continue;
+      const double z = cam.eye[2] + f.depth[px] * cam.ray(i, j)[2];
+      if (std::abs(z - 1.5) > 1e-4) continue;
+      bar_top += f.primitive[px] == 2;
+      cylinder_cap += f.primitive[px] == 1;
+    }
+  }
+  EXPECT_GT(bar_top, 20);
+  EXPECT_EQ(cylinder_cap, 0);
+}
+
+// Bitwise equality of two frames (a float's every bit, so -0 and 0 differ).
+template <class T>
+int differing(const std::vector<T>& a, const std::vector<T>& b) {
+  if (a.size() != b.size()) return -1;
+  int n = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) n += std::memcmp(&a[k], &b[k], sizeof(T)) != 0;
+  return n;
+}
+
+void expect_same_frame(const Frame& fast, const Frame& ref, const std::string& what) {
+  EXPECT_EQ(fast.width, ref.width) << what;
+  EXPECT_EQ(fast.height, ref.height) << what;
+  EXPECT_EQ(differing(fast.primitive, ref.primitive), 0) << what << ": primitive";
+  EXPECT_EQ(differing(fast.triangle, ref.triangle), 0) << what << ": triangle";
+  EXPECT_EQ(differing(fast.depth, ref.depth), 0) << what << ": depth";
+  EXPECT_EQ(differing(fast.barycentric, ref.barycentric), 0) << what << ": barycentric";
+  EXPECT_EQ(differing(fast.normal, ref.normal), 0) << what << ": normal";
+}
+
+TEST(DiffcsgVisibility, CameraRaysAreTheFirstImplementations) {
+  for (const Camera& cam : {Camera::orbit({0.1, 0.2, 0.3}, 37, 21, 4, 61, 47, 33),
+                            Camera::orbit({0, 0, 0}, -120, -80, 9, 16, 100, 70)}) {
+    for (int j = 0; j < cam.height; j += 3) {
+      for (int i = 0; i < cam.width; i += 2) {
+        const Vec3 a = cam.ray(i, j), b = reference::reference_ray(cam, i, j);
+        ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << i << ", " << j;
+      }
+    }
+  }
+}
+
+TEST(DiffcsgVisibility, TheFastRendererDrawsTheFirstImplementationsFramesToTheBit) {
+  // Random trees of boxes, spheres and cylinders (some sharing faces), OpenSCAD's examples, from
+  // cameras outside and inside the solids, at sizes that are not multiples of the packets'.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
+  const char* ops[] = {"union", "intersection", "difference"};
+  std::vector<std::pair<std::string, Scene>> scenes;
+  for (int k = 0; k < 8; ++k) {
+    const auto leaf = [&] {
+      const int type = static_cast<int>(rng() % 3);
+      // Every other tree on a grid of 1/4: coplanar faces, shared edges.
+      const auto at = [&](double x) { return k % 2 ? std::round(4 * x) / 4 : x; };
+      std::string placement =
+          R"(, "translate": )" + numbers({at(u(rng) - 0.5), at(u(rng) - 0.5), at(u(rng) - 0.5)});
+      if (k % 2 == 0) {
+        placement += R"(, "rotate": )" + numbers({90 * u(rng), 90 * u(rng), 90 * u(rng)});
+      }
+      if (type == 0) {
+        return R"({"type": "box", "size": )" +
+               numbers({at(0.5 + u(rng)), at(0.5 + u(rng)), at(0.5 + u(rng))}) + placement + "}";
+      }
+      if (type == 1) {
+        const std::string r = numbers({0.3 + 0.5 * u(rng)});
+        return R"({"type": "sphere", "radius": )" + r.substr(1, r.size() - 2) + placement + "}";
+      }
+      return R"({"type": "cylinder", "radius": )" + std::to_string(at(0.25 + 0.5 * u(rng))) +
+             R"(, "height": )" + std::to_string(at(0.5 + u(rng))) + placement + "}";
+    };
+    const auto op = [&](const std::string& a, const std::string& b) {
+      return std::string(R"({"op": ")") + ops[rng() % 3] + R"(", "children": [)" + a + ", " + b +
+             "]}";
+    };
+    const std::string text = tree_file(op(op(leaf(), leaf()), op(leaf(), op(leaf(), leaf()))));
+    scenes.emplace_back(text, scene_from_tree(io::read_tree_string(text), "random"));
+  }
+  const std::filesystem::path scad = std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "scad";
+  for (const char* file :
+       {"Old/example001.openscad.csg", "Old/example003.openscad.csg", "Basics/CSG.openscad.csg"}) {
+    scenes.emplace_back(file, read_openscad_csg(scad / file));
+  }
+  // Axis-aligned boxes seen along the axes below: pixel-centre rays through mesh edges and
+  // vertices, and faces seen edge on.
+  const std::string box = R"({"type": "box", "size": [2, 2, 2]})";
+  scenes.emplace_back(
+      "cavity",
+      scene_from_tree(io::read_tree_string(tree_file(
+                          R"({"op": "difference", "children": [)" + box +
+                          R"(, {"type": "sphere", "radius": 0.6, "translate": [1, 0, 0]}]})")),
+                      "cavity"));
+  scenes.emplace_back(
+      "touching boxes",
+      scene_from_tree(
+          io::read_tree_string(tree_file(
+              R"({"op": "union", "children": [{"type": "box", "size": [1, 2, 2], "translate": [-0.5, 0, 0]},
+                 {"op": "difference", "children": [{"type": "box", "size": [1, 2, 2], "translate": [0.5, 0, 0]},
+                 {"type": "box", "size": [1, 1, 1], "translate": [1, 0, 0.5]}]}]})")),
+          "touching boxes"));
+  int drawn = 0;
+  for (const auto& [name, scene] : scenes) {
+    double size = 0;
+    for (const TriMesh& m : scene.primitives) {
+      for (const Vec3& v : m.vertices)
+        size = std::max({size, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
+    }
+    for (const Camera& cam :
+         {Camera::orbit({0, 0, 0}, 360 * u(rng), 160 * u(rng) - 80, 2 + 3 * size, 61, 47, 40),
+          // Closer in and narrower: the solid runs off the screen.
+          Camera::orbit({0.1 * size, 0, 0}, 360 * u(rng), 30, 2 + 2 * size, 70, 50, 12),
+          Camera::orbit({0, 0, 0}, 360 * u(rng), 20, 0.05 * size, 33, 38, 80),
+          // Along an axis, odd sizes: the middle pixel's ray is the axis.
+          Camera::orbit({0, 0, 0}, 90.0 * static_cast<double>(rng() % 4), 0, 2 + 3 * size, 65, 65,
+                        30),
+          Camera::orbit({0, 0, 0}, 45, 0, 2 + 3 * size, 33, 33, 30)}) {
+      const Frame ref = reference::reference_visibility(scene, cam, 1);
+      drawn += ref.visible_pixels() > 0;
+      for (const int threads : {1, 2}) {
+        expect_same_frame(render_visibility(scene, cam, threads), ref, name);
+      }
+    }
+  }
+  EXPECT_GE(drawn, 50) << "too few frames show anything";
 }
 
 }  // namespace

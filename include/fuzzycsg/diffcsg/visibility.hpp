@@ -8,6 +8,12 @@
 // also correct for non-convex closed primitives, and for rays through a mesh's edges. Hits
 // within 1e-6 of each other (relative to the ray's length, at least 1) are taken together
 // (coplanar faces, shared edges). Meshes must be closed with outward normals (scene.hpp's are).
+//
+// The rays go to Embree in packets of 4 x 4 pixels over tiles of 16 x 16 (one task each);
+// pixels outside every primitive's rectangle on the screen are not traced, and rays within
+// float rounding of a triangle's edge on the screen are traced alone (Embree's packet and
+// single-ray kernels may decide such a hit differently). The frame is, to the bit, the one of
+// tracing every pixel's ray alone (tests/diffcsg/visibility_reference.hpp).
 
 #include <array>
 #include <cstdint>
@@ -46,5 +52,7 @@ struct Frame {
 };
 
 Frame render_visibility(const Scene& scene, const Camera& camera, int threads = 0);
+// The same into `frame`, reusing its buffers (no allocation when it already has the size).
+void render_visibility(const Scene& scene, const Camera& camera, Frame& frame, int threads = 0);
 
 }  // namespace fuzzycsg::diffcsg
