@@ -41,18 +41,19 @@ struct Split {
   double scene = 0, edges = 0, visibility = 0, shade_aa = 0, backward = 0, total = 0;
 };
 
-Split step(const OpenscadModel& m, const Camera& cam, const Image& target, int threads) {
+// One refinement step; `pass` and `grad` are reused from step to step, as refine does.
+Split step(const OpenscadModel& m, const Camera& cam, const Image& target, int threads,
+           ViewPass& pass, Image& grad) {
   Split s;
   const auto t0 = Clock::now();
   Scene scene = scene_from_tree(m.tree, "bench", m.tessellation);
   s.scene = since(t0);
   const PreparedScene ps = prepare_scene(std::move(scene), true);
   s.edges = ps.seconds_edges;
-  const ViewPass pass = render_view(ps, cam, Shading::kNormals, threads);
+  render_view(ps, cam, Shading::kNormals, threads, pass);
   s.visibility = pass.seconds_visibility;
   s.shade_aa = pass.seconds_antialias;
   const auto t1 = Clock::now();
-  Image grad;
   image_loss(pass.image, target, diffcsg::Loss::kTanh, &grad);
   VertexGradient gv;
   render_view_backward(ps, cam, Shading::kNormals, pass, grad, gv);
@@ -101,8 +102,11 @@ int main(int argc, char** argv) {
         prepare_scene(scene_from_tree(goal, "goal", m.model.tessellation)), cam, Shading::kNormals);
     for (const int threads : {hw, 1}) {
       std::vector<Split> splits;
-      step(m.model, cam, target, threads);  // warm up
-      for (int r = 0; r < runs; ++r) splits.push_back(step(m.model, cam, target, threads));
+      ViewPass pass;
+      Image grad;
+      step(m.model, cam, target, threads, pass, grad);  // warm up
+      for (int r = 0; r < runs; ++r)
+        splits.push_back(step(m.model, cam, target, threads, pass, grad));
       const auto med = [&](double Split::*field) {
         std::vector<double> v;
         for (const Split& s : splits) v.push_back(s.*field);

@@ -51,7 +51,11 @@ void render_view(const PreparedScene& s, const Camera& camera, Shading shading, 
 
 void render_view_backward(const PreparedScene& s, const Camera& camera, Shading shading,
                           const ViewPass& pass, const Image& grad, VertexGradient& grad_vertices) {
-  Image grad_shaded;
+  Image& grad_shaded = pass.grad_shaded;
+  grad_shaded.width = pass.shaded.width;
+  grad_shaded.height = pass.shaded.height;
+  grad_shaded.channels = pass.shaded.channels;
+  grad_shaded.data.assign(pass.shaded.data.size(), 0.0f);
   antialias_backward(s.scene, camera, pass.shaded, pass.pairs, grad, grad_shaded, grad_vertices,
                      s.intersection_aa ? &s.edges : nullptr);
   shade_backward(s.scene, s.normals, camera, pass.frame, shading, pass.record, grad_shaded,

@@ -33,6 +33,7 @@ struct ViewPass {
   std::vector<AaPair> pairs;
   Image image;                                           // the result
   double seconds_visibility = 0, seconds_antialias = 0;  // antialias: shading included
+  mutable Image grad_shaded;  // the backward pass's scratch, kept to reuse its memory
 };
 
 ViewPass render_view(const PreparedScene& scene, const Camera& camera, Shading shading,
