@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::diffcsg {
@@ -630,14 +631,6 @@ class TreeBuilder {
 
 const Matrix kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 Scene parse_openscad_csg(std::string_view text, const std::string& source) {
@@ -653,7 +646,7 @@ Scene parse_openscad_csg(std::string_view text, const std::string& source) {
 }
 
 Scene read_openscad_csg(const std::filesystem::path& path) {
-  return parse_openscad_csg(read_text(path), path.string());
+  return parse_openscad_csg(io::read_file(path), path.string());
 }
 
 OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source) {
@@ -682,7 +675,7 @@ OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& 
 }
 
 OpenscadModel read_openscad_csg_tree(const std::filesystem::path& path) {
-  return parse_openscad_csg_tree(read_text(path), path.string());
+  return parse_openscad_csg_tree(io::read_file(path), path.string());
 }
 
 }  // namespace fuzzycsg::diffcsg

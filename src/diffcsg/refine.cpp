@@ -225,6 +225,14 @@ std::vector<int> unseen_primitives(const Tree& tree, const RefineTarget& target,
   return out;
 }
 
+// The model refined: unified operators snapped to their largest weight.
+Tree crisp_model(const Tree& input) {
+  for (const Node& n : input.nodes) {
+    if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified) return snap_operators(input);
+  }
+  return input;
+}
+
 // A parameter's value kept in its field's range (a radius above 0).
 double in_range(const Parameter& p, double x) {
   if (x < p.range.lo || (p.range.lo_open && x <= p.range.lo)) x = p.range.lo + 1e-6;
@@ -253,11 +261,7 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   RefineResult result;
-  bool unified = false;
-  for (const Node& n : input.nodes) {
-    unified = unified || (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified);
-  }
-  result.tree = unified ? snap_operators(input) : input;
+  result.tree = crisp_model(input);
   Tree& tree = result.tree;
   const TessellationOptions tessellation = fixed_tessellation(tree, "refine", options);
   const std::vector<double> initial = tree.params.values();
@@ -368,11 +372,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
   };
   const auto start = Clock::now();
   RefineResult result;
-  bool unified = false;
-  for (const Node& n : input.nodes) {
-    unified = unified || (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified);
-  }
-  result.tree = unified ? snap_operators(input) : input;
+  result.tree = crisp_model(input);
   Tree& tree = result.tree;
   // The meshes keep their connectivity: extrude caps triangulated once, at the start.
   const TessellationOptions tessellation = fixed_tessellation(tree, "refine", options);

@@ -13,19 +13,12 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/png.hpp"
+#include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/target/mesh_file.hpp"
 
 namespace fuzzycsg::diffcsg {
 
 namespace {
-
-std::string read_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read", path.string()));
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct StbFree {
   void operator()(unsigned char* p) const { stbi_image_free(p); }
@@ -74,7 +67,7 @@ std::string encode_image_png(const Image& image, Shading shading) {
 }
 
 Image read_image_png(const std::filesystem::path& path, Shading shading) {
-  const std::string bytes = read_bytes(path);
+  const std::string bytes = io::read_file(path);
   int w = 0, h = 0, channels = 0;
   const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
   const int size = static_cast<int>(std::min<std::size_t>(bytes.size(), 1u << 30));
@@ -116,7 +109,7 @@ ViewSet read_views(const std::filesystem::path& path) {
   const std::string file = path.string();
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(read_bytes(path));
+    j = nlohmann::json::parse(io::read_file(path));
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(fmt::format("{}: not JSON (byte {})", file, e.byte));
   }
