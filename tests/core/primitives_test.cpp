@@ -1199,9 +1199,8 @@ TEST(PrimitiveDegenerate, EdgesAxesAndCentres) {
     expect_finite(ex, p, "extrude vertex/edge/medial axis/cap");
   }
   // A degenerate segment (all four controls at one point) repeats that point 15 times.
-  const Instance pinched =
-      make(PrimitiveType::kExtrude,
-           {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 0, 1, 1, 0, 1, 1.0});  // 3 segments, height
+  const Instance pinched = make(PrimitiveType::kExtrude, {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 1, 0, 1, 0,
+                                                          1, 1, 0, 1, 1.0});  // 3 segments, height
   for (const Vec& p : {Vec{0, 0, 0}, Vec{0.3, 0.1, 0.2}, Vec{-1, -1, 0}}) {
     expect_finite(pinched, p, "extrude with a degenerate segment");
   }
