@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
 
@@ -76,12 +77,7 @@ int main(int argc, char** argv) {
   };
   std::vector<Model> models;
   models.push_back(
-      {"small",
-       parse_openscad_csg_tree("union() { difference() { cube(size = [2, 2, 2], center = true);"
-                               " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
-                               " cube(size = [0.5, 0.5, 3], center = true); }",
-                               "small"),
-       0.061});
+      {"small", parse_openscad_csg_tree(fuzzycsg::bench::kSmallScene, "small"), 0.061});
   models.push_back({"large",
                     read_openscad_csg_tree(std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
                                            "../shared/data/scad/Basics/CSG.openscad.csg"),

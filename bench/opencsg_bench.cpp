@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 #include "fuzzycsg/opencsg/renderer.hpp"
@@ -86,11 +87,7 @@ int main(int argc, char** argv) {
     Scene scene;
   };
   std::vector<Model> models;
-  models.push_back(
-      {"small", parse_openscad_csg("union() { difference() { cube(size = [2, 2, 2], center = true);"
-                                   " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
-                                   " cube(size = [0.5, 0.5, 3], center = true); }",
-                                   "small")});
+  models.push_back({"small", parse_openscad_csg(fuzzycsg::bench::kSmallScene, "small")});
   models.push_back({"large", read_openscad_csg(scad / "Old/example001.openscad.csg")});
   models.push_back({"dense", read_openscad_csg(scad / "Basics/logo.openscad.csg")});
   gl::Renderer opencsg(512, 512);

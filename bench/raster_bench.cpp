@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 
@@ -41,24 +42,12 @@ int main(int argc, char** argv) {
     Scene scene;
   };
   std::vector<Model> models;
-  models.push_back(
-      {"small", parse_openscad_csg("union() { difference() { cube(size = [2, 2, 2], center = true);"
-                                   " cylinder($fn = 29, h = 3, r = 0.6, center = true); }"
-                                   " cube(size = [0.5, 0.5, 3], center = true); }",
-                                   "small")});
+  models.push_back({"small", parse_openscad_csg(fuzzycsg::bench::kSmallScene, "small")});
   models.push_back({"large", read_openscad_csg(std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
                                                "../shared/data/scad/Old/example001.openscad.csg")});
   std::printf("512x512, %d hardware threads, median of %d frames\n", hw, runs);
   for (const Model& m : models) {
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    for (const TriMesh& t : m.scene.primitives) {
-      for (const Vec3& v : t.vertices) {
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], v[static_cast<std::size_t>(k)]);
-          hi[k] = std::max(hi[k], v[static_cast<std::size_t>(k)]);
-        }
-      }
-    }
+    const auto [lo, hi] = m.scene.bounds();
     const Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
     const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
     const Camera cam = Camera::orbit(centre, 30, 30, 3 * size, 512, 512, 30);
