@@ -44,6 +44,21 @@ MODES = {
     # The same changes with fixed product booleans, so that re-seeding is compared fairly.
     "lr3-product": ["--ops", "product", "--lr", "3e-3"],
     "lr3-product-reseed": ["--ops", "product", "--lr", "3e-3", "--reseed-every", "1000"],
+    # Search over the operator types (fuzzycsg/fit/types.hpp).
+    "ts": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500"],
+    "ts-balanced": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
+                    "--op-init", "balanced"],
+    "ts-ramp": ["--ops", "unified", "--type-search-every", "500"],
+    "ts-late-balanced": ["--ops", "unified", "--temperature-ramp", "0", "--op-init", "balanced",
+                         "--type-search-every", "500", "--type-search-from", "0.5"],
+    "ts-late": ["--ops", "unified", "--temperature-ramp", "0",
+                "--type-search-every", "500", "--type-search-from", "0.5"],
+    "ts-reseed": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
+                  "--reseed-every", "1000"],
+    "t1000-reseed": ["--ops", "unified", "--temperature-ramp", "0", "--reseed-every", "1000"],
+    "product-reseed": ["--ops", "product", "--reseed-every", "1000"],
+    "lr3-ts-reseed": ["--ops", "unified", "--lr", "3e-3", "--temperature-ramp", "0",
+                      "--type-search-every", "500", "--reseed-every", "1000"],
     # Primitive families mixed (quadric, sphere, box, cylinder in turn).
     "mix": ["--ops", "unified", "--family", "mix"],
     "lr3-reseed-mix": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
@@ -100,6 +115,7 @@ def main():
                             "nodes_after": c1["primitives"] + c1["operators"],
                             "changed": r["operators"]["changed_type"],
                             "unified": r["operators"]["unified"],
+                            "switches": r["operators"].get("type_switches", 0),
                             "seconds": r["timings"]["train_seconds"],
                             "command": cmd,
                         })

@@ -321,6 +321,10 @@ int run_fit_job(const FitJob& job) {
     if (options.reseed_every > 0) {
       fmt::print("fit: {} dead primitives re-seeded\n", r.reseeded);
     }
+    if (options.type_search_every > 0) {
+      fmt::print("fit: {} operator types switched by {} type searches\n", r.type_switches,
+                 r.type_searches);
+    }
     fmt::print("fit: pruned {}+{} -> {}+{} nodes (primitives+operators)\n", before.primitives,
                before.operators, after.primitives, after.operators);
     const auto line = [](const char* what, const std::optional<Metrics>& m) {
@@ -413,6 +417,19 @@ Verb register_fit(CLI::App& app) {
                       ->capture_default_str());
   model.push_back(cmd->add_option("--reseed-until", o->reseed_until,
                                   "Re-seed during this fraction of the steps")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--type-search-every", o->type_search_every,
+                                  "Steps between searches over the unified operators' types "
+                                  "(0: none)")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--type-search-from", o->type_search_from,
+                                  "Search operator types from this fraction of the steps")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--type-search-until", o->type_search_until,
+                                  "Search operator types during this fraction of the steps")
+                      ->capture_default_str());
+  model.push_back(cmd->add_option("--type-search-points", o->type_search_points,
+                                  "Points of each of a type search's two samples")
                       ->capture_default_str());
   model.push_back(cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str());
   model.push_back(cmd->add_option("--surface", o->sampling.surface,

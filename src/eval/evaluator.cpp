@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -23,7 +24,8 @@ Scratch::Scratch(std::size_t tape_size, std::size_t stack_depth, std::size_t max
       stack(hwy::AllocateAligned<float>((stack_depth + 1) * kBlock)),
       points(hwy::AllocateAligned<float>(3 * kBlock)),
       monomials(hwy::AllocateAligned<float>(9 * kBlock)),
-      dtheta(hwy::AllocateAligned<float>(std::max<std::size_t>(max_theta, 1))) {}
+      dtheta(hwy::AllocateAligned<float>(std::max<std::size_t>(max_theta, 1))),
+      residual(hwy::AllocateAligned<float>(2 * kBlock)) {}
 
 }  // namespace kernel
 
@@ -119,6 +121,35 @@ struct Evaluator::Impl {
     return points.size() / dim;
   }
 
+  // The loss's targets, weights and scale into `a`, checked.
+  void set_loss(kernel::Args& a, const Loss& loss, std::size_t n, const char* fn) const {
+    a.loss_kind = loss.kind;
+    if (loss.kind != Loss::Kind::kMse) return;
+    const std::string where = std::string("Evaluator::") + fn + ": ";
+    if (loss.targets.size() != n) {
+      bad_argument(where + "targets has " + std::to_string(loss.targets.size()) +
+                   " entries, expected " + std::to_string(n) + " (one per point)");
+    }
+    a.targets = loss.targets.data();
+    double wsum = static_cast<double>(n);
+    if (!loss.weights.empty()) {
+      if (loss.weights.size() != n) {
+        bad_argument(where + "weights has " + std::to_string(loss.weights.size()) +
+                     " entries, expected " + std::to_string(n) + " (one per point)");
+      }
+      wsum = 0.0;
+      for (float w : loss.weights) {
+        if (!(w >= 0.0f) || !std::isfinite(w)) {
+          bad_argument(where + "weights must be finite and >= 0");
+        }
+        wsum += w;
+      }
+      a.weights = loss.weights.data();
+    }
+    if (!(wsum > 0.0)) bad_argument(where + "the weights sum to 0");
+    a.loss_scale = 1.0 / wsum;
+  }
+
   kernel::Args args(const std::vector<float>& consts, std::span<const float> points) const {
     kernel::Args a;
     a.tape = program.tape();
@@ -182,31 +213,7 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
   const auto consts = im.constants(params);
   kernel::Args a = im.args(consts, points);
   a.occupancy = occupancy.empty() ? nullptr : occupancy.data();
-  a.loss_kind = loss.kind;
-  if (loss.kind == Loss::Kind::kMse) {
-    if (loss.targets.size() != n) {
-      bad_argument("Evaluator::backward: targets has " + std::to_string(loss.targets.size()) +
-                   " entries, expected " + std::to_string(n) + " (one per point)");
-    }
-    a.targets = loss.targets.data();
-    double wsum = static_cast<double>(n);
-    if (!loss.weights.empty()) {
-      if (loss.weights.size() != n) {
-        bad_argument("Evaluator::backward: weights has " + std::to_string(loss.weights.size()) +
-                     " entries, expected " + std::to_string(n) + " (one per point)");
-      }
-      wsum = 0.0;
-      for (float w : loss.weights) {
-        if (!(w >= 0.0f) || !std::isfinite(w)) {
-          bad_argument("Evaluator::backward: weights must be finite and >= 0");
-        }
-        wsum += w;
-      }
-      a.weights = loss.weights.data();
-    }
-    if (!(wsum > 0.0)) bad_argument("Evaluator::backward: the weights sum to 0");
-    a.loss_scale = 1.0 / wsum;
-  }
+  im.set_loss(a, loss, n, "backward");
   if (n == 0) return 0.0;
 
   const Chunking ch = chunking(n);
@@ -245,6 +252,92 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
   double total = 0.0;
   for (double l : chunk_loss) total += l;
   return loss.kind == Loss::Kind::kMse ? total * a.loss_scale : total;
+}
+
+double Evaluator::edit_loss_changes(std::span<const double> params, std::span<const float> points,
+                                    const Loss& loss, std::span<const BilinearEdit> edits,
+                                    std::span<double> changes) const {
+  const Impl& im = *impl_;
+  const std::size_t n = im.point_count(points, "edit_loss_changes");
+  if (loss.kind != Loss::Kind::kMse) {
+    bad_argument("Evaluator::edit_loss_changes: the loss must be the MSE");
+  }
+  if (changes.size() != edits.size()) {
+    bad_argument("Evaluator::edit_loss_changes: changes has " + std::to_string(changes.size()) +
+                 " entries, expected " + std::to_string(edits.size()) + " (one per edit)");
+  }
+  const auto tape = im.program.tape();
+  // The one bilinear instruction of each edited node.
+  std::vector<int> instruction_of(im.program.tree().nodes.size(), -1);
+  for (std::size_t k = 0; k < tape.size(); ++k) {
+    const int node = tape[k].node;
+    if (node < 0 || tape[k].code == OpCode::kLeaf || tape[k].code == OpCode::kLeafQuadric3) {
+      continue;
+    }
+    const bool one = instruction_of[static_cast<std::size_t>(node)] == -1;
+    instruction_of[static_cast<std::size_t>(node)] =
+        one && tape[k].code == OpCode::kBilinear ? static_cast<int>(k) : -2;
+  }
+  std::vector<std::size_t> order(edits.size());
+  std::vector<int> ins_of_edit(edits.size());
+  for (std::size_t e = 0; e < edits.size(); ++e) {
+    const int node = edits[e].node;
+    const int k = node >= 0 && static_cast<std::size_t>(node) < instruction_of.size()
+                      ? instruction_of[static_cast<std::size_t>(node)]
+                      : -2;
+    if (k < 0) {
+      bad_argument("Evaluator::edit_loss_changes: node " + std::to_string(node) +
+                   " is not a binary unified or product-logic operator");
+    }
+    ins_of_edit[e] = k;
+    order[e] = e;
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return ins_of_edit[x] < ins_of_edit[y]; });
+  std::vector<std::int32_t> first(tape.size(), -1), count(tape.size(), 0);
+  std::vector<float> delta(3 * edits.size());
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    const std::size_t e = order[j];
+    const auto k = static_cast<std::size_t>(ins_of_edit[e]);
+    if (first[k] < 0) first[k] = static_cast<std::int32_t>(j);
+    ++count[k];
+    for (int c = 0; c < 3; ++c) delta[3 * j + c] = static_cast<float>(edits[e].delta[c]);
+  }
+
+  const auto consts = im.constants(params);
+  kernel::Args a = im.args(consts, points);
+  im.set_loss(a, loss, n, "edit_loss_changes");
+  a.edit_first = first.data();
+  a.edit_count = count.data();
+  a.edit_delta = delta.data();
+  std::fill(changes.begin(), changes.end(), 0.0);
+  if (n == 0) return 0.0;
+
+  const Chunking ch = chunking(n);
+  const std::size_t ne = edits.size();
+  std::vector<double> chunk_out(ch.chunks * ne, 0.0);
+  std::vector<double> chunk_loss(ch.chunks, 0.0);
+  im.arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ch.chunks, 1), [&](const auto& r) {
+      kernel::Scratch& s = im.local_scratch();
+      const eval_detail::FlushDenormals ftz(im.flush);
+      // Instructions other than leaves and bilinear ones still accumulate their gradients.
+      std::vector<double> scratch_grad(im.program.num_consts());
+      for (std::size_t c = r.begin(); c != r.end(); ++c) {
+        kernel::Args ac = a;
+        ac.edit_out = chunk_out.data() + c * ne;
+        kernel::run(ac, ch.begin(c, n), ch.begin(c + 1, n), s, scratch_grad.data(), &chunk_loss[c]);
+      }
+    });
+  });
+  for (std::size_t j = 0; j < ne; ++j) {
+    double sum = 0.0;
+    for (std::size_t c = 0; c < ch.chunks; ++c) sum += chunk_out[c * ne + j];
+    changes[order[j]] = sum * a.loss_scale;
+  }
+  double total = 0.0;
+  for (double l : chunk_loss) total += l;
+  return total * a.loss_scale;
 }
 
 }  // namespace fuzzycsg

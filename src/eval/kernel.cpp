@@ -152,6 +152,28 @@ void bilinear_backward(const float* c, const float* x, const float* y, float* gx
   }
 }
 
+// Edit mode: for each of `count` edits (da, db, dd) of a bilinear instruction, adds to out[j]
+// the sum over the block of w (2 e g dv + (g dv)^2), dv = da x + db y + dd x y: the change of
+// w (r - t)^2 when the root r, affine in this instruction's value with slope g, moves by g dv.
+void bilinear_edits(const float* x, const float* y, const float* g, const float* we, const float* w,
+                    const float* deltas, int count, double* out) {
+  const D d;
+  const V two = hn::Set(d, 2.0f);
+  for (int j = 0; j < count; ++j) {
+    const V da = hn::Set(d, deltas[3 * j]), db = hn::Set(d, deltas[3 * j + 1]),
+            dd = hn::Set(d, deltas[3 * j + 2]);
+    V acc = hn::Zero(d);
+    for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
+      const V xv = hn::Load(d, x + i), yv = hn::Load(d, y + i);
+      const V dv = hn::MulAdd(xv, hn::MulAdd(dd, yv, da), hn::Mul(db, yv));
+      const V gd = hn::Mul(hn::Load(d, g + i), dv);
+      acc = hn::MulAdd(hn::Mul(two, hn::Load(d, we + i)), gd, acc);
+      acc = hn::MulAdd(hn::Mul(hn::Load(d, w + i), gd), gd, acc);
+    }
+    out[j] += sum_lanes(acc);
+  }
+}
+
 // ---- Scalar paths -------------------------------------------------------------------------
 
 struct LeafPoint {
@@ -428,15 +450,27 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
     if (a.occupancy != nullptr) std::copy(root, root + count, a.occupancy + b0);
     if (grad == nullptr) continue;
 
-    // Loss and its derivative wrt the root occupancy (the seed of the reverse sweep).
+    // Loss and its derivative wrt the root occupancy (the seed of the reverse sweep). In edit
+    // mode the seed is 1, so that adjoints are d root / d value, and w e and w are kept.
+    const bool edits = a.edit_first != nullptr;
     float* seed = stack;
+    float* we = s.residual.get();
+    float* wt = we + kBlock;
     for (std::size_t i = 0; i < kBlock; ++i) {
       if (i >= count) {
         seed[i] = 0.0f;
+        if (edits) we[i] = wt[i] = 0.0f;
         continue;
       }
       const std::size_t idx = b0 + i;
-      if (a.loss_kind == Loss::Kind::kSum) {
+      if (edits) {
+        const float w = a.weights != nullptr ? a.weights[idx] : 1.0f;
+        const float r = root[i] - a.targets[idx];
+        loss_sum += static_cast<double>(w) * r * r;
+        seed[i] = 1.0f;
+        we[i] = w * r;
+        wt[i] = w;
+      } else if (a.loss_kind == Loss::Kind::kSum) {
         loss_sum += root[i];
         seed[i] = 1.0f;
       } else {
@@ -457,7 +491,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
       float* g = stack + top * kBlock;
       switch (ins.code) {
         case OpCode::kLeafQuadric3:
-          if (dim == 2) {
+          if (edits) {
+            // nothing to learn about leaves in edit mode
+          } else if (dim == 2) {
             quadric_backward<true>(c, mono, values + k * kBlock, g, gc);
           } else {
             quadric_backward<false>(c, mono, values + k * kBlock, g, gc);
@@ -465,12 +501,17 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
           --top;
           break;
         case OpCode::kLeaf:
-          leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get());
+          if (!edits) leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get());
           --top;
           break;
         case OpCode::kBilinear:
+          if (edits && a.edit_count[k] > 0) {
+            const auto first = static_cast<std::size_t>(a.edit_first[k]);
+            bilinear_edits(values + ins.left * kBlock, values + ins.right * kBlock, g, we, wt,
+                           a.edit_delta + 3 * first, a.edit_count[k], a.edit_out + first);
+          }
           bilinear_backward(c, values + ins.left * kBlock, values + ins.right * kBlock, g,
-                            g + kBlock, gc, ins.bilinear != BilinearSource::kConstant);
+                            g + kBlock, gc, !edits && ins.bilinear != BilinearSource::kConstant);
           ++top;
           break;
         case OpCode::kLogic:

@@ -13,6 +13,7 @@
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/fit/init.hpp"
+#include "fuzzycsg/fit/types.hpp"
 
 namespace fuzzycsg {
 
@@ -33,6 +34,7 @@ double seconds_since(Clock::time_point t) {
 constexpr std::uint64_t kSamplerStream = 0x9e3779b97f4a7c15ULL;
 // Re-seeding rounds draw from a stream of the seed and the step, so a resumed run repeats them.
 constexpr std::uint64_t kReseedStream = 0xd1b54a32d192ed03ULL;
+constexpr std::uint64_t kTypeSearchStream = 0x8cb92ba72f3d8dd7ULL;
 
 std::string save_rng(const Rng& rng) {
   std::ostringstream s;
@@ -185,6 +187,19 @@ void validate(const FitOptions& o, int dim) {
   if (!(o.reseed_until >= 0 && o.reseed_until <= 1)) {
     bad_flag("--reseed-until", fmt::format("must be in [0, 1] (got {})", o.reseed_until));
   }
+  if (o.type_search_every < 0) {
+    bad_flag("--type-search-every", fmt::format("must be >= 0 (got {})", o.type_search_every));
+  }
+  if (!(o.type_search_from >= 0 && o.type_search_from <= 1)) {
+    bad_flag("--type-search-from", fmt::format("must be in [0, 1] (got {})", o.type_search_from));
+  }
+  if (!(o.type_search_until >= 0 && o.type_search_until <= 1)) {
+    bad_flag("--type-search-until", fmt::format("must be in [0, 1] (got {})", o.type_search_until));
+  }
+  if (o.type_search_points < 1 || o.type_search_points > (1u << 24)) {
+    bad_flag("--type-search-points",
+             fmt::format("must be in [1, 16777216] (got {})", o.type_search_points));
+  }
   if (o.prune_points < 1) bad_flag("--prune-points", "must be >= 1");
   if (o.metrics.points < 1) bad_flag("--metric-points", "must be >= 1");
 }
@@ -284,6 +299,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     double loss_sum = 0;
     long loss_count = 0;
     long reseeded = 0;
+    long switched = 0;
     bool valid = false;  // a step of this run had a finite loss
   } prev;
   prev.params.resize(n);
@@ -299,6 +315,10 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     Rng drng(o.seed ^ kReseedStream);
     distance = std::make_unique<BoundaryDistance>(target, 50000, drng);
   }
+  const long type_search_first =
+      static_cast<long>(o.type_search_from * static_cast<double>(o.iters));
+  const long type_search_last =
+      static_cast<long>(o.type_search_until * static_cast<double>(o.iters));
   const Clock::time_point start = Clock::now();
   const double seconds_before = st.seconds;
   Clock::time_point last_report = start;
@@ -371,6 +391,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
         st.loss_sum = prev.loss_sum;
         st.loss_count = prev.loss_count;
         st.reseeded = prev.reseeded;
+        st.switched = prev.switched;
       }
       break;
     }
@@ -380,6 +401,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     prev.loss_sum = st.loss_sum;
     prev.loss_count = st.loss_count;
     prev.reseeded = st.reseeded;
+    prev.switched = st.switched;
     prev.valid = true;
 
     // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam, into `prev`.
@@ -415,6 +437,18 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
           reseed_dead_leaves(model, ev, target, *distance, st.params, st.m, st.v, ro, rrng);
 
       st.reseeded += rep.moved;
+    }
+    if (o.type_search_every > 0 && st.step % o.type_search_every == 0 &&
+        st.step >= type_search_first && st.step < type_search_last) {
+      Rng trng(o.seed ^ kTypeSearchStream ^
+               (static_cast<std::uint64_t>(st.step) * 0x9e3779b97f4a7c15ULL));
+      TypeSearchOptions to;
+      to.points = o.type_search_points;
+      to.sampling = o.sampling;
+      const TypeSearchReport rep =
+          search_operator_types(model, ev, target, st.params, st.m, st.v, to, trng);
+      st.switched += rep.switched;
+      ++result.type_searches;
     }
     st.loss_sum += loss;
     ++st.loss_count;
@@ -457,6 +491,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     }
   }
   result.reseeded = st.reseeded;
+  result.type_switches = st.switched;
   result.state = std::move(st);
   if (result.stop == StopReason::kNonFinite) return result;
 

@@ -53,6 +53,10 @@ json options_to_json(const FitOptions& o) {
               {"lr_end", o.lr_end},
               {"reseed_every", o.reseed_every},
               {"reseed_until", o.reseed_until},
+              {"type_search_every", o.type_search_every},
+              {"type_search_from", o.type_search_from},
+              {"type_search_until", o.type_search_until},
+              {"type_search_points", o.type_search_points},
               {"sampling",
                {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
                 {"surface", o.sampling.surface},
@@ -188,6 +192,10 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.lr_end = r.get_or<double>(j, w, "lr_end", o.lr_end);
   o.reseed_every = r.get_or<long>(j, w, "reseed_every", 0L);
   o.reseed_until = r.get_or<double>(j, w, "reseed_until", o.reseed_until);
+  o.type_search_every = r.get_or<long>(j, w, "type_search_every", 0L);
+  o.type_search_from = r.get_or<double>(j, w, "type_search_from", o.type_search_from);
+  o.type_search_until = r.get_or<double>(j, w, "type_search_until", o.type_search_until);
+  o.type_search_points = r.get_or<std::size_t>(j, w, "type_search_points", o.type_search_points);
   const json& s = r.field(j, w, "sampling");
   o.sampling.surface = r.get<double>(s, w + ".sampling", "surface");
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");
@@ -265,7 +273,8 @@ std::string checkpoint_to_string(const Checkpoint& c) {
            {"loss_sum", s.loss_sum},
            {"loss_count", s.loss_count},
            {"seconds", s.seconds},
-           {"reseeded", s.reseeded}}}};
+           {"reseeded", s.reseeded},
+           {"switched", s.switched}}}};
   return j.dump(1) + "\n";
 }
 
@@ -303,6 +312,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
   c.state.loss_count = r.get<long>(s, w, "loss_count");
   c.state.seconds = r.get<double>(s, w, "seconds");
   c.state.reseeded = r.get_or<long>(s, w, "reseeded", 0L);
+  c.state.switched = r.get_or<long>(s, w, "switched", 0L);
   const json& curve = r.field(s, w, "curve");
   if (!curve.is_array()) r.fail("state.curve", "must be an array");
   for (const json& p : curve) {
@@ -335,7 +345,10 @@ std::string fit_report_json(const FitResult& r, const FitOptions& o, const Repor
   j["stop"] = std::string(stop_reason_name(r.stop));
   j["steps"] = r.state.step;
   j["final_loss"] = r.state.curve.empty() ? json(nullptr) : json(r.state.curve.back().loss);
-  j["operators"] = {{"unified", r.operators_total}, {"changed_type", r.operators_changed}};
+  j["operators"] = {{"unified", r.operators_total},
+                    {"changed_type", r.operators_changed},
+                    {"type_searches", r.type_searches},
+                    {"type_switches", r.type_switches}};
   j["init"] = {{"leaves_from_target", r.initialised_leaves}, {"reseeded_leaves", r.reseeded}};
   j["counts"] = {{"trained", counts_json(r.trained)}};
   if (r.stop != StopReason::kNonFinite) {

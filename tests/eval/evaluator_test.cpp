@@ -15,6 +15,7 @@
 
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg {
@@ -587,6 +588,159 @@ TEST(Spline, TrainsThroughTheNode) {
   }
   EXPECT_TRUE(std::isfinite(last));
   EXPECT_LT(last, 0.9 * start);
+}
+
+}  // namespace
+}  // namespace fuzzycsg
+
+namespace fuzzycsg {
+namespace {
+
+// Tree nodes that are operators, in index order.
+std::vector<int> operator_nodes(const Tree& tree) {
+  std::vector<int> out;
+  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+    if (tree.nodes[k].kind == NodeKind::kOperator) out.push_back(static_cast<int>(k));
+  }
+  return out;
+}
+
+std::array<double, 3> abd(const std::array<double, 4>& c) {
+  return {c[1] + c[2], c[1] + c[3], c[0] - c[1] - c[2] - c[3]};
+}
+
+TEST(EditLossChanges, SwappedUnifiedWeightsAreExact) {
+  // Soft weights (t = 3), so a swap of any two entries changes the operator; the predicted
+  // change of the MSE must be the one the double-precision reference measures after the swap.
+  FullTreeOptions o;
+  o.leaves = 16;
+  o.seed = 21;
+  o.temperature = 3.0;
+  const Tree tree = make_full_binary_tree(o);
+  const Evaluator ev(tree, EvalOptions{2});
+  const auto params = tree.params.values();
+  const std::size_t n = 700;  // partial last block
+  const auto points = random_points(n, 3, 5);
+  std::vector<float> targets(n);
+  for (std::size_t i = 0; i < n; ++i) targets[i] = points[3 * i] * points[3 * i + 1] > 0 ? 1 : 0;
+  const double base = reference_mse(tree, params, points, targets);
+
+  std::vector<BilinearEdit> edits;
+  std::vector<std::vector<double>> swapped;
+  for (int k : operator_nodes(tree)) {
+    const Node& node = tree.nodes[static_cast<std::size_t>(k)];
+    std::array<double, 4> l{};
+    for (int i = 0; i < 4; ++i) l[i] = params[node.unified[i].index];
+    const auto c = logic::unified_weights(l, 3.0, 10.0);
+    for (int i = 0; i < 4; ++i) {
+      for (int j = i + 1; j < 4; ++j) {
+        auto s = c;
+        std::swap(s[i], s[j]);
+        const auto a = abd(c), b = abd(s);
+        edits.push_back({k, {b[0] - a[0], b[1] - a[1], b[2] - a[2]}});
+        auto p = params;
+        std::swap(p[node.unified[i].index], p[node.unified[j].index]);
+        swapped.push_back(p);
+      }
+    }
+  }
+  std::vector<double> changes(edits.size());
+  const double loss =
+      ev.edit_loss_changes(params, points, Loss{Loss::Kind::kMse, targets, {}}, edits, changes);
+  EXPECT_NEAR(loss, base, 1e-5);
+  int moved = 0;
+  for (std::size_t e = 0; e < edits.size(); ++e) {
+    const double truth = reference_mse(tree, swapped[e], points, targets) - base;
+    EXPECT_NEAR(changes[e], truth, 2e-5 + 1e-3 * std::abs(truth)) << "edit " << e;
+    moved += std::abs(truth) > 1e-4 ? 1 : 0;
+  }
+  EXPECT_GT(moved, static_cast<int>(edits.size()) / 2);  // the swaps do change the loss
+}
+
+TEST(EditLossChanges, ProductBooleanChangedTypeIsExactAndWeighted) {
+  FullTreeOptions o;
+  o.leaves = 8;
+  o.ops = OperatorMode::kProduct;
+  o.seed = 4;
+  const Tree tree = make_full_binary_tree(o);
+  const Evaluator ev(tree, EvalOptions{3});
+  const auto params = tree.params.values();
+  const std::size_t n = 300;
+  const auto points = random_points(n, 3, 8);
+  std::vector<float> targets(n), weights(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    targets[i] = points[3 * i + 2] > 0.1f ? 1 : 0;
+    weights[i] = 0.5f + static_cast<float>(i % 3);
+  }
+  auto weighted_mse = [&](const Tree& t) {
+    const auto v = reference_values(t, t.params.values(), points);
+    double s = 0, w = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      s += weights[i] * (v[i] - targets[i]) * (v[i] - targets[i]);
+      w += weights[i];
+    }
+    return s / w;
+  };
+  const double base = weighted_mse(tree);
+  // (a, b, d) of product logic: x y, x + y - x y, x - x y.
+  auto constants = [](OpKind op) -> std::array<double, 3> {
+    return op == OpKind::kIntersection ? std::array<double, 3>{0, 0, 1}
+           : op == OpKind::kUnion      ? std::array<double, 3>{1, 1, -1}
+                                       : std::array<double, 3>{1, 0, -1};
+  };
+  std::vector<BilinearEdit> edits;
+  std::vector<double> truth;
+  for (int k : operator_nodes(tree)) {
+    const OpKind now = tree.nodes[static_cast<std::size_t>(k)].op;
+    for (OpKind op : {OpKind::kIntersection, OpKind::kUnion, OpKind::kDifference}) {
+      if (op == now) continue;
+      const auto a = constants(now), b = constants(op);
+      edits.push_back({k, {b[0] - a[0], b[1] - a[1], b[2] - a[2]}});
+      Tree changed = tree;
+      changed.nodes[static_cast<std::size_t>(k)].op = op;
+      truth.push_back(weighted_mse(changed) - base);
+    }
+  }
+  std::vector<double> changes(edits.size());
+  ev.edit_loss_changes(params, points, Loss{Loss::Kind::kMse, targets, weights}, edits, changes);
+  for (std::size_t e = 0; e < edits.size(); ++e) {
+    EXPECT_NEAR(changes[e], truth[e], 2e-5 + 1e-3 * std::abs(truth[e])) << "edit " << e;
+  }
+  // The same answer with any number of threads, and edits in any order.
+  const Evaluator one(tree, EvalOptions{1});
+  std::vector<BilinearEdit> reversed(edits.rbegin(), edits.rend());
+  std::vector<double> again(edits.size());
+  one.edit_loss_changes(params, points, Loss{Loss::Kind::kMse, targets, weights}, reversed, again);
+  for (std::size_t e = 0; e < edits.size(); ++e) {
+    EXPECT_EQ(again[edits.size() - 1 - e], changes[e]);
+  }
+}
+
+TEST(EditLossChanges, RejectsWhatItCannotEdit) {
+  FullTreeOptions o;
+  o.leaves = 4;
+  o.ops = OperatorMode::kGodel;
+  const Tree godel = make_full_binary_tree(o);
+  const Evaluator ev(godel);
+  const auto params = godel.params.values();
+  const auto points = random_points(10, 3, 1);
+  std::vector<float> targets(10);
+  std::vector<double> changes(1);
+  const Loss mse{Loss::Kind::kMse, targets, {}};
+  const std::vector<BilinearEdit> op{{operator_nodes(godel)[0], {1, 0, 0}}};
+  EXPECT_THROW(ev.edit_loss_changes(params, points, mse, op, changes), InputError);  // min/max
+  const std::vector<BilinearEdit> leaf{{0, {1, 0, 0}}};
+  EXPECT_THROW(ev.edit_loss_changes(params, points, mse, leaf, changes), InputError);
+  const std::vector<BilinearEdit> outside{{999, {1, 0, 0}}};
+  EXPECT_THROW(ev.edit_loss_changes(params, points, mse, outside, changes), InputError);
+  o.ops = OperatorMode::kUnified;
+  const Tree unified = make_full_binary_tree(o);
+  const Evaluator eu(unified);
+  const std::vector<BilinearEdit> ok{{operator_nodes(unified)[0], {1, 0, 0}}};
+  EXPECT_THROW(eu.edit_loss_changes(unified.params.values(), points, Loss{}, ok, changes),
+               InputError);  // not the MSE
+  std::vector<double> two(2);
+  EXPECT_THROW(eu.edit_loss_changes(unified.params.values(), points, mse, ok, two), InputError);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 // are grouped into fixed chunks, each with its own gradient accumulator, summed in chunk order:
 // results are identical for any thread count (and bit-identical run to run).
 
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -38,6 +39,15 @@ struct Loss {
   std::span<const float> weights;  // kMse, optional: one per point
 };
 
+// A change of one bilinear operator's constants: the operator z = a x + b y + d x y of tree
+// node `node` (a unified operator B_c, or a boolean of product logic) becoming
+// (a + da) x + (b + db) y + (d + dd) x y. For B_c, a = c1 + c2, b = c1 + c3 and
+// d = c0 - c1 - c2 - c3 (core/logic.hpp), so a change of c is a change of (a, b, d).
+struct BilinearEdit {
+  int node = -1;
+  std::array<double, 3> delta{};  // (da, db, dd)
+};
+
 class Evaluator {
  public:
   explicit Evaluator(const Tree& tree, EvalOptions options = {});
@@ -58,6 +68,20 @@ class Evaluator {
   // When `occupancy` is non-empty it receives the forward values too.
   double backward(std::span<const double> params, std::span<const float> points, const Loss& loss,
                   std::span<double> grad, std::span<float> occupancy = {}) const;
+
+  // The loss (kMse only) at the points, and in `changes` (one per edit) how much it would
+  // change if that edit alone were made, everything else as in `params`. One forward sweep and
+  // one reverse sweep of d root / d value, without the leaves' gradients, serve every edit:
+  // the change of the loss is sum_i w_i (2 e_i g_i dv_i + (g_i dv_i)^2) / sum_i w_i, with e the
+  // residual, dv the change of the operator's value and g the derivative of the root with
+  // respect to that value. The result is exact when every instruction between the operator and
+  // the root is bilinear, a standard complement or a spline term (the root is then affine in
+  // the operator's value): for trees of unified operators and product logic. Through other
+  // logic families it is the first-order estimate. Each node must be an operator that
+  // compiles to one bilinear instruction (a binary unified or product-logic boolean).
+  double edit_loss_changes(std::span<const double> params, std::span<const float> points,
+                           const Loss& loss, std::span<const BilinearEdit> edits,
+                           std::span<double> changes) const;
 
  private:
   struct Impl;

@@ -62,6 +62,13 @@ struct FitOptions {
   // during the first `reseed_until` fraction of the steps.
   long reseed_every = 0;
   double reseed_until = 0.5;
+  // Search over the unified operators' types (fuzzycsg/fit/types.hpp) every
+  // `type_search_every` steps (0: never) from the `type_search_from` fraction of the steps to
+  // the `type_search_until` fraction, on two fresh samples of `type_search_points` points each.
+  long type_search_every = 0;
+  double type_search_from = 0.0;
+  double type_search_until = 0.9;
+  std::size_t type_search_points = 8192;
   SamplingOptions sampling;
   int threads = 0;
   double time_limit = 0;  // seconds of training, 0: none
@@ -95,6 +102,7 @@ struct TrainState {
   long loss_count = 0;
   double seconds = 0;  // training time so far
   long reseeded = 0;   // leaves moved by re-seeding so far
+  long switched = 0;   // operator types changed by the type search so far
 };
 
 struct Progress {
@@ -133,6 +141,8 @@ struct FitResult {
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
   long reseeded = 0;           // leaves moved by re-seeding
+  long type_switches = 0;      // operator types changed by the type search
+  int type_searches = 0;       // searches run by this call
   int initialised_leaves = 0;  // InitMode::kBalls: leaves started as balls
   PruneReport prune;
   std::optional<Metrics> metrics_trained, metrics_pruned;
