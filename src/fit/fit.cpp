@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -282,6 +283,8 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
 
   Rng rng(o.seed ^ kSamplerStream);
   SampleSet pool;
+  std::future<SampleSet> next_pool;  // drawn ahead (see the training loop); holds `rng` meanwhile
+  std::string next_rng;              // the generator's state before it
   if (resume && st.pool_step >= 0) {
     // Redraw the pool the interrupted run was using: same generator state, same points.
     rng = load_rng(st.rng_at_resample);
@@ -353,9 +356,23 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
       break;
     }
     if (st.pool_step < 0 || st.step - st.pool_step >= o.resample_every) {
-      st.rng_at_resample = save_rng(rng);
       st.pool_step = st.step;
-      pool = draw_samples(target, pool_size, o.sampling, rng);
+      if (next_pool.valid()) {
+        st.rng_at_resample = std::move(next_rng);
+        pool = next_pool.get();
+      } else {
+        st.rng_at_resample = save_rng(rng);
+        pool = draw_samples(target, pool_size, o.sampling, rng);
+      }
+      // The next pool is drawn on another thread while these steps run (the generator is used
+      // by nothing else), so that sampling leaves the critical path; the same points in the
+      // same order as drawing it when it is needed.
+      if (st.step + o.resample_every < o.iters) {
+        next_rng = save_rng(rng);
+        next_pool = std::async(std::launch::async, [&target, &o, &rng, pool_size] {
+          return draw_samples(target, pool_size, o.sampling, rng);
+        });
+      }
     }
     // The batch: the next `batch` points of the pool, cycling.
     const std::size_t offset =

@@ -107,7 +107,7 @@ class ImageTarget final : public Target {
       const CellExtent e = cell_extent(r, c);
       const double x = e.x0 + uniform01(rng) * (e.x1 - e.x0);
       const double y = e.y0 + uniform01(rng) * (e.y1 - e.y0);
-      const double accept = uniform01(rng) * release_weight(cell_min_distance(r, c));
+      const double accept = uniform01(rng) * cell_bound_[static_cast<std::size_t>(k)];
       if (accept < release_weight(grid_.centre_distance(x, y))) {
         points[2 * s] = static_cast<float>(x);
         points[2 * s + 1] = static_cast<float>(y);
@@ -145,17 +145,21 @@ class ImageTarget final : public Target {
     }
     return least;
   }
-  // Built on first use: (size - 1)^2 doubles.
+  // Built on first use: twice (size - 1)^2 doubles.
   void build_weight_table() const {
     const int cells = grid_.size() - 1;
-    cell_cumulative_.resize(static_cast<std::size_t>(cells) * static_cast<std::size_t>(cells));
+    const std::size_t count = static_cast<std::size_t>(cells) * static_cast<std::size_t>(cells);
+    cell_cumulative_.resize(count);
+    cell_bound_.resize(count);
     double total = 0.0;
     for (int r = 0; r < cells; ++r) {
       for (int c = 0; c < cells; ++c) {
         const CellExtent e = cell_extent(r, c);
-        total += release_weight(cell_min_distance(r, c)) * (e.x1 - e.x0) * (e.y1 - e.y0);
-        cell_cumulative_[static_cast<std::size_t>(r) * static_cast<std::size_t>(cells) +
-                         static_cast<std::size_t>(c)] = total;
+        const std::size_t k = static_cast<std::size_t>(r) * static_cast<std::size_t>(cells) +
+                              static_cast<std::size_t>(c);
+        cell_bound_[k] = release_weight(cell_min_distance(r, c));
+        total += cell_bound_[k] * (e.x1 - e.x0) * (e.y1 - e.y0);
+        cell_cumulative_[k] = total;
       }
     }
   }
@@ -230,6 +234,7 @@ class ImageTarget final : public Target {
   std::vector<double> cumulative_length_;
   mutable std::once_flag weight_table_once_;
   mutable std::vector<double> cell_cumulative_;  // sample_distance_weighted(): bound * area
+  mutable std::vector<double> cell_bound_;       // the weight's bound over each cell
   mutable tbb::task_arena arena_;
 };
 

@@ -157,6 +157,19 @@ expect_error "--init: .*surfaces" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --ini
 expect_error "--lr-end: must be in \(0, 1\]" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
   --lr-schedule cosine --lr-end 0 -q
 expect_error "--reseed-every: must be >= 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --reseed-every -5 -q
+# fit with the search over operator types: counted in the log and the report.
+if "$bin" fit "$tmp/disc.json" -o "$tmp/fit-types" --prims 16 --iters 400 --batch 256 --lr 0.01 \
+      --temperature-ramp 0 --type-search-every 100 --type-search-points 2048 \
+      --metric-points 20000 --threads 2 >"$tmp/fit-types.log" 2>&1 &&
+    grep -q '"type_search_every": 100' "$tmp/fit-types/report.json" &&
+    grep -q '"type_searches": 3' "$tmp/fit-types/report.json" &&
+    grep -q "operator types switched by 3 type searches" "$tmp/fit-types.log"; then
+  ok
+else
+  bad "fit --type-search-every: $(tail -3 "$tmp/fit-types.log")"
+fi
+expect_error "--type-search-until: must be in \[0, 1\]" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
+  --type-search-every 10 --type-search-until 2 -q
 # fit --sampler release: a picture (a 64 x 64 plain PBM of a disc), the scheme in the report and
 # the checkpoint, a resume that keeps it; refused for other targets and with App. A's flags.
 awk 'BEGIN { print "P1 64 64"; for (r = 0; r < 64; ++r) { line = "";
