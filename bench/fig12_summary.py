@@ -20,11 +20,21 @@ def primitives_after(row):
     return int(m.group(1)) if m else None
 
 
+def changed(sel):
+    # Unified operators whose type differs from the start, of how many ("-" for fixed ones).
+    if not all(r.get("unified") for r in sel):
+        return "-"
+    return f'{statistics.median(r["changed"] for r in sel):g}/{sel[0]["unified"]}'
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("files", nargs="+")
     ap.add_argument("--baseline", default="unified", help="mode the MSE ratio is taken against")
     ap.add_argument("--modes", help="comma list: only these modes, in this order")
+    ap.add_argument("--wins", action="store_true",
+                    help="also count, per mode, the mesh and size pairs where its median MSE is "
+                         "the lowest of the modes shown")
     args = ap.parse_args()
 
     rows = []
@@ -41,8 +51,9 @@ def main():
             groups.setdefault((r["mesh"], r["prims"]), {}).setdefault(r["mode"], []).append(r)
 
     print("| mesh | P | mode | seeds | median MSE | vs baseline | median IoU | "
-          "median primitives kept | median nodes kept | median Chamfer | median train s |")
-    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "median primitives kept | median nodes kept | median Chamfer | median types changed | "
+          "median train s |")
+    print("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for (mesh, prims) in sorted(groups, key=lambda k: (k[0], k[1])):
         by_mode = groups[(mesh, prims)]
         base = by_mode.get(args.baseline)
@@ -60,7 +71,23 @@ def main():
                   f"{statistics.median(kept) if kept else float('nan'):g} | "
                   f"{statistics.median(r['nodes_after'] for r in sel):g} | "
                   f"{statistics.median(chamfer) if chamfer else float('nan'):.4f} | "
+                  f"{changed(sel)} | "
                   f"{statistics.median(r['seconds'] for r in sel):.1f} |")
+    if args.wins:
+        wins = {m: 0 for m in modes}
+        pairs = 0
+        for key, by_mode in groups.items():
+            medians = {m: statistics.median(r["mse"] for r in by_mode[m])
+                       for m in modes if m in by_mode}
+            if len(medians) < 2:
+                continue
+            pairs += 1
+            wins[min(medians, key=medians.get)] += 1
+        print()
+        print("| mode | lowest median MSE (of " + str(pairs) + " mesh and size pairs) |")
+        print("|---|---:|")
+        for m in modes:
+            print(f"| {m} | {wins[m]} |")
     return 0
 
 
