@@ -428,6 +428,9 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--type-search-until", o->type_search_until,
                                   "Search operator types during this fraction of the steps")
                       ->capture_default_str());
+  model.push_back(cmd->add_option("--type-search-switches", o->type_search_switches,
+                                  "Most operator types a round of a search switches together")
+                      ->capture_default_str());
   model.push_back(cmd->add_option("--type-search-points", o->type_search_points,
                                   "Points of each of a type search's two samples")
                       ->capture_default_str());

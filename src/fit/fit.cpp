@@ -197,6 +197,10 @@ void validate(const FitOptions& o, int dim) {
   if (!(o.type_search_until >= 0 && o.type_search_until <= 1)) {
     bad_flag("--type-search-until", fmt::format("must be in [0, 1] (got {})", o.type_search_until));
   }
+  if (o.type_search_switches < 1) {
+    bad_flag("--type-search-switches",
+             fmt::format("must be >= 1 (got {})", o.type_search_switches));
+  }
   if (o.type_search_points < 1 || o.type_search_points > (1u << 24)) {
     bad_flag("--type-search-points",
              fmt::format("must be in [1, 16777216] (got {})", o.type_search_points));
@@ -461,6 +465,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
                (static_cast<std::uint64_t>(st.step) * 0x9e3779b97f4a7c15ULL));
       TypeSearchOptions to;
       to.points = o.type_search_points;
+      to.max_switches = o.type_search_switches;
       to.sampling = o.sampling;
       const TypeSearchReport rep =
           search_operator_types(model, ev, target, st.params, st.m, st.v, to, trng);

@@ -57,6 +57,7 @@ json options_to_json(const FitOptions& o) {
               {"type_search_from", o.type_search_from},
               {"type_search_until", o.type_search_until},
               {"type_search_points", o.type_search_points},
+              {"type_search_switches", o.type_search_switches},
               {"sampling",
                {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
                 {"surface", o.sampling.surface},
@@ -196,6 +197,7 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.type_search_from = r.get_or<double>(j, w, "type_search_from", o.type_search_from);
   o.type_search_until = r.get_or<double>(j, w, "type_search_until", o.type_search_until);
   o.type_search_points = r.get_or<std::size_t>(j, w, "type_search_points", o.type_search_points);
+  o.type_search_switches = r.get_or<int>(j, w, "type_search_switches", o.type_search_switches);
   const json& s = r.field(j, w, "sampling");
   o.sampling.surface = r.get<double>(s, w + ".sampling", "surface");
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");

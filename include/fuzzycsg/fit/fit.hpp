@@ -69,6 +69,7 @@ struct FitOptions {
   double type_search_from = 0.0;
   double type_search_until = 0.9;
   std::size_t type_search_points = 8192;
+  int type_search_switches = 32;  // switches made together in one round of a search
   SamplingOptions sampling;
   int threads = 0;
   double time_limit = 0;  // seconds of training, 0: none
