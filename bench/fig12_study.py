@@ -53,6 +53,8 @@ MODES = {
                          "--type-search-every", "500", "--type-search-from", "0.5"],
     "ts-late": ["--ops", "unified", "--temperature-ramp", "0",
                 "--type-search-every", "500", "--type-search-from", "0.5"],
+    "ts-few": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
+               "--type-search-switches", "4"],
     "ts-reseed": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
                   "--reseed-every", "1000"],
     "t1000-reseed": ["--ops", "unified", "--temperature-ramp", "0", "--reseed-every", "1000"],

@@ -10,6 +10,7 @@ a baseline mode of the same mesh and size.
 
 import argparse
 import json
+import math
 import re
 import statistics
 import sys
@@ -32,6 +33,7 @@ def main():
     ap.add_argument("files", nargs="+")
     ap.add_argument("--baseline", default="unified", help="mode the MSE ratio is taken against")
     ap.add_argument("--modes", help="comma list: only these modes, in this order")
+    ap.add_argument("--versus", help="also compare every mode with this one, pair by pair")
     ap.add_argument("--wins", action="store_true",
                     help="also count, per mode, the mesh and size pairs where its median MSE is "
                          "the lowest of the modes shown")
@@ -73,6 +75,24 @@ def main():
                   f"{statistics.median(chamfer) if chamfer else float('nan'):.4f} | "
                   f"{changed(sel)} | "
                   f"{statistics.median(r['seconds'] for r in sel):.1f} |")
+    if args.versus:
+        print()
+        print(f"| mode | median MSE below {args.versus}'s | geometric mean of median MSE / "
+              f"{args.versus}'s |")
+        print("|---|---:|---:|")
+        for m in modes:
+            if m == args.versus:
+                continue
+            below, logs = 0, []
+            for by_mode in groups.values():
+                if m not in by_mode or args.versus not in by_mode:
+                    continue
+                a = statistics.median(r["mse"] for r in by_mode[m])
+                b = statistics.median(r["mse"] for r in by_mode[args.versus])
+                below += a < b
+                logs.append(math.log(a / b))
+            if logs:
+                print(f"| {m} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} |")
     if args.wins:
         wins = {m: 0 for m in modes}
         pairs = 0

@@ -76,13 +76,25 @@ TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evalu
                                        const TypeSearchOptions& o, Rng& rng) {
   TypeSearchReport rep;
   const std::size_t nodes = model.nodes.size();
+  // Operators whose four weights are free and their own (a weight that is fixed, or shared with
+  // another operator, cannot be swapped for this operator alone).
+  std::vector<int> uses(model.params.size(), 0);
+  for (const Node& n : model.nodes) {
+    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
+    for (const ParamRef& r : n.unified) ++uses[r.index];
+  }
   std::vector<int> unified;
   for (std::size_t k = 0; k < nodes; ++k) {
     const Node& n = model.nodes[k];
-    if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified && n.children.size() == 2 &&
-        n.unified.size() == 4) {
-      unified.push_back(static_cast<int>(k));
+    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified || n.children.size() != 2 ||
+        n.unified.size() != 4) {
+      continue;
     }
+    bool own = true;
+    for (const ParamRef& r : n.unified) {
+      own = own && uses[r.index] == 1 && !model.params.at(r.index).fixed;
+    }
+    if (own) unified.push_back(static_cast<int>(k));
   }
   rep.operators = static_cast<int>(unified.size());
   if (unified.empty()) return rep;

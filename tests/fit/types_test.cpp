@@ -100,6 +100,29 @@ TEST(TypeSearch, FindsTheDifferenceThatAUnionMisses) {
   EXPECT_EQ(params, before);
 }
 
+TEST(TypeSearch, LeavesFixedWeightsAlone) {
+  const NotchedBall target;
+  FullTreeOptions t;
+  t.leaves = 2;
+  Tree model = make_full_binary_tree(t);
+  std::vector<double> params = model.params.values();
+  const std::vector<int> leaves = leaves_in_order(model);
+  ASSERT_TRUE(set_leaf_to_ball(model, leaves[0], Ball{{0, 0, 0}, 0.6}, true, 30, params));
+  ASSERT_TRUE(set_leaf_to_ball(model, leaves[1], Ball{{0.35, 0, 0}, 0.3}, true, 30, params));
+  const Node& root = model.nodes[static_cast<std::size_t>(model.root)];
+  set_type(root, 1, params);  // a union, which the search would make a difference
+  model.params[root.unified[3]].fixed = true;
+  const std::vector<double> before = params;
+  const Evaluator ev(model, EvalOptions{2});
+  TypeSearchOptions o;
+  o.sampling.surface = 0;
+  Rng rng(3);
+  const TypeSearchReport r = search_operator_types(model, ev, target, params, {}, {}, o, rng);
+  EXPECT_EQ(r.operators, 0);
+  EXPECT_EQ(r.switched, 0);
+  EXPECT_EQ(params, before);
+}
+
 TEST(TypeSearch, NeverWorseOnTheJudgingSampleAndCountsAgree) {
   const testing::BallTarget target(3, {0.1, 0, 0}, 0.5);
   for (std::uint64_t seed : {1u, 2u, 3u}) {

@@ -62,8 +62,9 @@ std::array<double, 3> swap_delta(const std::array<double, 4>& c, int i, int j);
 void swap_unified_entries(const Node& node, int i, int j, std::span<double> params,
                           std::span<double> adam_m, std::span<double> adam_v);
 
-// One search (see the header comment) on `model`'s unified operators, in place on `params`
-// and the Adam moments. `evaluator` must be compiled from `model`.
+// One search (see the header comment) on `model`'s binary unified operators whose weights are
+// free and used by no other operator, in place on `params` and the Adam moments. `evaluator`
+// must be compiled from `model`.
 TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evaluator,
                                        const Target& target, std::span<double> params,
                                        std::span<double> adam_m, std::span<double> adam_v,
