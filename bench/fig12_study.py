@@ -61,6 +61,11 @@ MODES = {
     "product-reseed": ["--ops", "product", "--reseed-every", "1000"],
     "lr3-ts-reseed": ["--ops", "unified", "--lr", "3e-3", "--temperature-ramp", "0",
                       "--type-search-every", "500", "--reseed-every", "1000"],
+    # Balls instead of quadrics: a leaf cannot become its own complement.
+    "unified-sphere": ["--ops", "unified", "--family", "sphere"],
+    "product-sphere": ["--ops", "product", "--family", "sphere"],
+    "ts-sphere": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
+                  "--family", "sphere"],
     # Primitive families mixed (quadric, sphere, box, cylinder in turn).
     "mix": ["--ops", "unified", "--family", "mix"],
     "lr3-reseed-mix": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
