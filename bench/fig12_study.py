@@ -66,11 +66,19 @@ MODES = {
     "product-sphere": ["--ops", "product", "--family", "sphere"],
     "ts-sphere": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
                   "--family", "sphere"],
+    # The same in 2D: discs instead of conics.
+    "unified-circle": ["--ops", "unified", "--family", "circle"],
+    "product-circle": ["--ops", "product", "--family", "circle"],
+    "ts-circle": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
+                  "--family", "circle"],
     # Primitive families mixed (quadric, sphere, box, cylinder in turn).
     "mix": ["--ops", "unified", "--family", "mix"],
     "lr3-reseed-mix": ["--ops", "unified", "--lr", "3e-3", "--reseed-every", "1000",
                        "--family", "mix"],
 }
+
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def run(args, mesh, prims, mode, seed, out):
@@ -81,14 +89,15 @@ def run(args, mesh, prims, mode, seed, out):
     subprocess.run(cmd, check=True)
     with open(os.path.join(out, "report.json")) as f:
         report = json.load(f)
-    shown = " ".join(["fuzzycsg", *cmd[1:2], "../shared/data/meshes/cad/" + mesh, *cmd[3:]])
+    data = os.path.relpath(os.path.abspath(args.data), ROOT)
+    shown = " ".join(["fuzzycsg", *cmd[1:2], os.path.join(data, mesh), *cmd[3:]])
     shown = shown.replace(" -q", "").replace(" --checkpoint-every 0", "")
     return report, shown.replace(out, "OUT")
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = ROOT
     ap.add_argument("--bin", default=os.path.join(root, "build/release/apps/fuzzycsg/fuzzycsg"))
     ap.add_argument("--data", default=os.path.join(root, "../shared/data/meshes/cad"))
     ap.add_argument("--meshes", default="cgal_fandisk.off")
@@ -116,7 +125,7 @@ def main():
                             "mse": r["metrics"]["pruned"]["mse"],
                             "mse_trained": r["metrics"]["trained"]["mse"],
                             "iou": r["metrics"]["pruned"]["iou"],
-                            "chamfer": r["metrics"]["pruned"]["chamfer"],
+                            "chamfer": r["metrics"]["pruned"].get("chamfer"),
                             "nodes": f'{c0["primitives"]}+{c0["operators"]} -> '
                                      f'{c1["primitives"]}+{c1["operators"]}',
                             "nodes_after": c1["primitives"] + c1["operators"],
