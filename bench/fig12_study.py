@@ -13,7 +13,9 @@ Modes: "unified" (our default: the temperature rises from 10 to 1000 over the fi
 "unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel"; the
 variants of docs/results.md: "unified-balanced" and "unified-t1000-balanced" (--op-init balanced),
 "lr3*" (lr 3e-3, re-seeding, starts from the target), "lr3-product*" (the same with product
-booleans), "mix" (mixed primitive families).
+booleans), "ts*" (the search over operator types), "*-sphere" and "*-circle" (balls and discs
+instead of quadrics and conics), "mix" (mixed primitive families). --data and --meshes take
+pictures as well (docs/results.md, "Fig. 12 in 2D").
 """
 
 import argparse
