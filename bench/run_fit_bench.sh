@@ -67,6 +67,10 @@ for c in "${cases[@]}"; do
     die "missing $data/$file: the reference data of the authors' release is expected in ../shared/data/liu2024 relative to the repository root ($root)"
 done
 data=$(cd "$data" && pwd)
+# The baseline needs PyTorch: say so before minutes of fitting, not after.
+if [[ "${TORCH:-1}" != 0 ]] && ! "$PYTHON" -c "import torch" 2>/dev/null; then
+  die "$PYTHON cannot import torch, which the PyTorch baseline needs: apt-get install python3-torch, or TORCH=0 to skip the baseline"
+fi
 
 # --- build -----------------------------------------------------------------------------------
 if [[ -z "${BIN:-}" ]]; then

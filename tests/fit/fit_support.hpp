@@ -1,11 +1,15 @@
 #pragma once
 // Shared by the fit tests: analytic targets with exact occupancy and exact boundary samples,
-// random points, and tree evaluation.
+// random points, tree evaluation and temporary files.
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <random>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +21,16 @@
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::testing {
+
+// Writes `text` to the test's temporary directory as `name`; returns the path.
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  if (std::fclose(f) != 0 || !ok) throw std::runtime_error("cannot write " + path);
+  return path;
+}
 
 // The ball (3D) or disc (2D) of radius `radius` about `center`.
 class BallTarget : public Target {

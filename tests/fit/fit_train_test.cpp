@@ -151,14 +151,7 @@ TEST(Fit, ResumeFromACheckpointIsBitIdentical) {
   (void)fit(target, interrupted, hooks);
   ASSERT_FALSE(saved.empty());
 
-  const std::string path = ::testing::TempDir() + "/fuzzycsg_checkpoint.json";
-  {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    ASSERT_NE(f, nullptr);
-    std::fwrite(saved.data(), 1, saved.size(), f);
-    std::fclose(f);
-  }
-  const Checkpoint ck = read_checkpoint(path);
+  const Checkpoint ck = read_checkpoint(testing::write_temp("fuzzycsg_checkpoint.json", saved));
   EXPECT_EQ(ck.state.step, 70);
   EXPECT_EQ(ck.options.pool, 1024u);
   const FitResult resumed = fit(target, ck.options, {}, &ck.state);
@@ -201,11 +194,8 @@ TEST(Fit, MixedFamiliesCycleOverTheLeaves) {
 }
 
 TEST(Checkpoint, MalformedFilesNameTheField) {
-  const std::string path = ::testing::TempDir() + "/fuzzycsg_bad_checkpoint.json";
   const auto message = [&](const std::string& text) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    std::fwrite(text.data(), 1, text.size(), f);
-    std::fclose(f);
+    const std::string path = testing::write_temp("fuzzycsg_bad_checkpoint.json", text);
     try {
       (void)read_checkpoint(path);
     } catch (const InputError& e) {

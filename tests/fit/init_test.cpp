@@ -420,15 +420,8 @@ TEST(Fit, TargetInitialisationAndReseedingResumeBitIdentically) {
   ck.dim = 3;
   ck.options = o;
   ck.state = at100;
-  const std::string path = ::testing::TempDir() + "/fuzzycsg_init_checkpoint.json";
-  {
-    const std::string text = checkpoint_to_string(ck);
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    ASSERT_NE(f, nullptr);
-    std::fwrite(text.data(), 1, text.size(), f);
-    std::fclose(f);
-  }
-  const Checkpoint back = read_checkpoint(path);
+  const Checkpoint back = read_checkpoint(
+      testing::write_temp("fuzzycsg_init_checkpoint.json", checkpoint_to_string(ck)));
   EXPECT_EQ(back.options.init, InitMode::kSurface);
   EXPECT_EQ(back.options.reseed_every, 40);
   EXPECT_EQ(back.options.lr_schedule, LrSchedule::kCosine);

@@ -2,23 +2,16 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <string>
 
+#include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/fit/report.hpp"
 
 namespace fuzzycsg {
 namespace {
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) throw std::runtime_error("cannot write " + path);
-  std::fwrite(text.data(), 1, text.size(), f);
-  std::fclose(f);
-  return path;
-}
+using testing::write_temp;
 
 Checkpoint small_checkpoint(SamplingScheme scheme) {
   Checkpoint ck;

@@ -203,14 +203,8 @@ TEST(TypeSearch, ResumeIsBitIdentical) {
   };
   (void)fit(target, o, hooks);
   ASSERT_FALSE(saved.empty());
-  const std::string path = ::testing::TempDir() + "/fuzzycsg_types_checkpoint.json";
-  {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    ASSERT_NE(f, nullptr);
-    std::fwrite(saved.data(), 1, saved.size(), f);
-    std::fclose(f);
-  }
-  const Checkpoint ck = read_checkpoint(path);
+  const Checkpoint ck =
+      read_checkpoint(testing::write_temp("fuzzycsg_types_checkpoint.json", saved));
   EXPECT_EQ(ck.options.type_search_every, 50);
   EXPECT_EQ(ck.options.type_search_points, 2048u);
   const FitResult resumed = fit(target, ck.options, {}, &ck.state);
