@@ -194,8 +194,9 @@ TEST(Fit, MixedFamiliesCycleOverTheLeaves) {
 }
 
 TEST(Checkpoint, MalformedFilesNameTheField) {
+  const std::string name = "fuzzycsg_bad_checkpoint.json";
   const auto message = [&](const std::string& text) {
-    const std::string path = testing::write_temp("fuzzycsg_bad_checkpoint.json", text);
+    const std::string path = testing::write_temp(name, text);
     try {
       (void)read_checkpoint(path);
     } catch (const InputError& e) {
@@ -215,7 +216,7 @@ TEST(Checkpoint, MalformedFilesNameTheField) {
   std::string bad = good;
   bad.replace(bad.find("\"adam_m\""), 8, "\"adam_x\"");
   EXPECT_NE(message(bad).find("state.adam_m: missing"), std::string::npos);
-  EXPECT_NE(message("").find(path), std::string::npos);
+  EXPECT_NE(message("").find(name), std::string::npos);
 }
 
 TEST(Plot, LossCurveIsAPngWithTheCurve) {
