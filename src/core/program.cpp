@@ -62,6 +62,10 @@ Program Program::compile(const Tree& tree) {
       ins.step_at = k;
       if (node.step.kind != StepKind::kCrisp) k += 1;
       ins.num_consts = k;
+      ins.ball = (node.shape.type == PrimitiveType::kSphere ||
+                  node.shape.type == PrimitiveType::kCircle) &&
+                 ins.has_translate && !ins.has_rotate && !ins.has_scale &&
+                 node.step.kind == StepKind::kSigmoid;
     }
     next_const += ins.num_consts;
     ++leaves;

@@ -1,10 +1,10 @@
 // The block kernel: forward and backward sweeps of a compiled tape over blocks of kBlock
 // points, compiled for every SIMD target Highway supports and dispatched at run time.
 //
-// Hot instructions (quadric leaves with sigmoid occupancy, bilinear booleans = product logic
-// and the unified operator) are written with Highway vectors; the rest (any primitive with
-// placement, other logic families, complements, spline terms) run as scalar loops over the
-// block calling the core templates.
+// Hot instructions (quadric leaves and translated balls with sigmoid occupancy, bilinear
+// booleans = product logic and the unified operator) are written with Highway vectors; the
+// rest (other primitives with placement, other logic families, complements, spline terms) run
+// as scalar loops over the block calling the core templates.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "eval/kernel.cpp"
@@ -117,6 +117,59 @@ void quadric_backward(const float* c, const float* mono, const float* o_in, cons
   for (std::size_t m = 0; m < rows.size(); ++m) grad[rows[m]] += sum_lanes(acc[m]);
   grad[9] += sum_lanes(acc_const);
   grad[10] += sum_lanes(acc_s);
+}
+
+// Sigmoid occupancy of a ball (sphere or circle) with its centre translated: constants r,
+// t[0..kDim), s (the kLeaf layout with translate_at = 1 and step_at = 1 + kDim). f = |p - t| - r.
+template <int kDim>
+HWY_INLINE V ball_distance(const float* c, const float* pts, std::size_t i, V* q) {
+  const D d;
+  V ss = hn::Zero(d);
+  for (int j = 0; j < kDim; ++j) {
+    q[j] =
+        hn::Sub(hn::Load(d, pts + static_cast<std::size_t>(j) * kBlock + i), hn::Set(d, c[1 + j]));
+    ss = hn::MulAdd(q[j], q[j], ss);
+  }
+  return hn::Sqrt(ss);
+}
+
+template <int kDim>
+void ball_forward(const float* c, const float* pts, float* out) {
+  const D d;
+  const V r = hn::Set(d, c[0]), s = hn::Set(d, c[1 + kDim]);
+  V q[kDim];
+  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
+    hn::Store(sigmoid_occupancy(s, hn::Sub(ball_distance<kDim>(c, pts, i, q), r)), d, out + i);
+  }
+}
+
+// As the scalar path: with u = o (1 - o) and gf = -s g u, dL/ds = -sum f g u, dL/dr = -sum gf,
+// dL/dt = -sum gf (p - t) / |p - t| (0 at the centre).
+template <int kDim>
+void ball_backward(const float* c, const float* pts, const float* o_in, const float* adj,
+                   double* grad) {
+  const D d;
+  const V one = hn::Set(d, 1.0f);
+  const V r = hn::Set(d, c[0]), s = hn::Set(d, c[1 + kDim]);
+  V acc_t[kDim];
+  for (auto& a : acc_t) a = hn::Zero(d);
+  V acc_r = hn::Zero(d), acc_s = hn::Zero(d);
+  V q[kDim];
+  for (std::size_t i = 0; i < kBlock; i += hn::Lanes(d)) {
+    const V len = ball_distance<kDim>(c, pts, i, q);
+    const V f = hn::Sub(len, r);
+    const V o = hn::Load(d, o_in + i);
+    const V gu = hn::Mul(hn::Load(d, adj + i), hn::Mul(o, hn::Sub(one, o)));
+    acc_s = hn::NegMulAdd(f, gu, acc_s);
+    const V gf = hn::Neg(hn::Mul(s, gu));
+    acc_r = hn::Sub(acc_r, gf);
+    const V inv = hn::IfThenElseZero(hn::Gt(len, hn::Zero(d)), hn::Div(one, len));
+    const V gfi = hn::Mul(gf, inv);
+    for (int j = 0; j < kDim; ++j) acc_t[j] = hn::NegMulAdd(gfi, q[j], acc_t[j]);
+  }
+  grad[0] += sum_lanes(acc_r);
+  for (int j = 0; j < kDim; ++j) grad[1 + j] += sum_lanes(acc_t[j]);
+  grad[1 + kDim] += sum_lanes(acc_s);
 }
 
 // z = a x + b y + d x y
@@ -429,7 +482,15 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
           }
           break;
         case OpCode::kLeaf:
-          leaf_forward(ins, *a.shapes[k], c, dim, pts, out);
+          if (ins.ball) {
+            if (dim == 2) {
+              ball_forward<2>(c, pts, out);
+            } else {
+              ball_forward<3>(c, pts, out);
+            }
+          } else {
+            leaf_forward(ins, *a.shapes[k], c, dim, pts, out);
+          }
           break;
         case OpCode::kBilinear:
           bilinear_forward(c, values + ins.left * kBlock, values + ins.right * kBlock, out);
@@ -501,7 +562,17 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
           --top;
           break;
         case OpCode::kLeaf:
-          if (!edits) leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get());
+          if (edits) {
+            // nothing to learn about leaves in edit mode
+          } else if (ins.ball) {
+            if (dim == 2) {
+              ball_backward<2>(c, pts, values + k * kBlock, g, gc);
+            } else {
+              ball_backward<3>(c, pts, values + k * kBlock, g, gc);
+            }
+          } else {
+            leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get());
+          }
           --top;
           break;
         case OpCode::kBilinear:

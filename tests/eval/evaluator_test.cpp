@@ -137,6 +137,57 @@ TEST(Evaluator, EveryPlacedFamilyMatchesReference) {
   }
 }
 
+// Spheres and circles placed by a translation alone take the kernel's vector path; with a
+// rotation, a scale or another step they keep the scalar one. Both against the reference, with
+// points on the balls' centres (where the direction of the gradient is undefined and is 0).
+TEST(Evaluator, TranslatedBallsTakeTheVectorPath) {
+  for (int dim : {2, 3}) {
+    FullTreeOptions o;
+    o.dim = dim;
+    o.leaves = 16;
+    o.family = dim == 3 ? PrimitiveType::kSphere : PrimitiveType::kCircle;
+    o.seed = 40 + dim;
+    o.sharpness = 8.0;
+    o.temperature = 2.0;
+    const Tree tree = make_full_binary_tree(o);
+    int balls = 0;
+    const Program prog = Program::compile(tree);
+    for (const Instruction& ins : prog.tape()) balls += ins.ball;
+    EXPECT_EQ(balls, 16) << dim << "D";
+    SCOPED_TRACE(dim);
+    check_tree(tree, 300, 31);
+
+    const Evaluator ev(tree, EvalOptions{1});
+    const auto params = tree.params.values();
+    std::vector<float> centres;
+    for (const Node& n : tree.nodes) {
+      if (n.kind != NodeKind::kPrimitive) continue;
+      for (const ParamRef& t : n.placement.translate) {
+        centres.push_back(static_cast<float>(params[t.index]));
+      }
+    }
+    std::vector<double> grad(params.size());
+    const std::vector<float> targets(centres.size() / static_cast<std::size_t>(dim), 1.0f);
+    const double loss = ev.backward(params, centres, Loss{Loss::Kind::kMse, targets, {}}, grad);
+    EXPECT_NEAR(loss, reference_mse(tree, params, centres, targets), 1e-5);
+    for (double g : grad) ASSERT_TRUE(std::isfinite(g));
+  }
+
+  const Tree scalar = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+    "root": {"op": "union", "children": [
+      {"type": "sphere", "radius": 0.3, "translate": [0.1, 0, 0], "sharpness": 6},
+      {"type": "sphere", "radius": 0.3, "translate": [0.1, 0, 0], "scale": 1.5, "sharpness": 6},
+      {"type": "sphere", "radius": 0.3, "translate": [0.1, 0, 0], "step": "crisp"},
+      {"type": "sphere", "radius": 0.3, "sharpness": 6}]}})",
+                                           "balls");
+  std::vector<bool> fast;
+  const Program prog = Program::compile(scalar);
+  for (const Instruction& ins : prog.tape()) {
+    if (ins.code == OpCode::kLeaf) fast.push_back(ins.ball);
+  }
+  EXPECT_EQ(fast, (std::vector<bool>{true, false, false, false}));
+}
+
 // Placed extrudes (translated, rotated, scaled; one with an H_n step) go through the kernel's
 // scalar leaf path: forward values against the reference, and the gradient of every parameter
 // (profile control points, a shared one among them, height, placement, sharpness) against

@@ -49,6 +49,9 @@ struct Instruction {
   int step_n = 0;
   // Offsets within this instruction's constants (kLeaf).
   std::uint32_t rotate_at = 0, translate_at = 0, scale_at = 0, step_at = 0;
+  // kLeaf: a sphere or circle placed by a translation alone, with a sigmoid step (radius,
+  // centre, sharpness), which the kernel runs on SIMD vectors.
+  bool ball = false;
 
   // kBilinear
   BilinearSource bilinear = BilinearSource::kConstant;
