@@ -66,11 +66,13 @@ MODES = {
     # Balls instead of quadrics: a leaf cannot become its own complement.
     "unified-sphere": ["--ops", "unified", "--family", "sphere"],
     "product-sphere": ["--ops", "product", "--family", "sphere"],
+    "godel-sphere": ["--ops", "godel", "--family", "sphere"],
     "ts-sphere": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
                   "--family", "sphere"],
     # The same in 2D: discs instead of conics.
     "unified-circle": ["--ops", "unified", "--family", "circle"],
     "product-circle": ["--ops", "product", "--family", "circle"],
+    "godel-circle": ["--ops", "godel", "--family", "circle"],
     "ts-circle": ["--ops", "unified", "--temperature-ramp", "0", "--type-search-every", "500",
                   "--family", "circle"],
     # Primitive families mixed (quadric, sphere, box, cylinder in turn).
