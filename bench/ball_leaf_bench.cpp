@@ -18,31 +18,17 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 
 using namespace fuzzycsg;
+using fuzzycsg::bench::median;
+using fuzzycsg::bench::parse_list;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-std::vector<int> parse_list(const std::string& s) {
-  std::vector<int> out;
-  std::size_t pos = 0;
-  while (pos < s.size()) {
-    const std::size_t comma = s.find(',', pos);
-    out.push_back(std::stoi(s.substr(pos, comma - pos)));
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  return out;
-}
 
 // The same tree with a fixed scale of 1 on every primitive (the scalar path).
 Tree with_unit_scales(Tree tree) {

@@ -19,35 +19,21 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/fit/types.hpp"
 
 using namespace fuzzycsg;
+using fuzzycsg::bench::median;
+using fuzzycsg::bench::parse_list;
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-std::vector<int> parse_list(const std::string& s) {
-  std::vector<int> out;
-  std::size_t pos = 0;
-  while (pos < s.size()) {
-    const std::size_t comma = s.find(',', pos);
-    out.push_back(std::stoi(s.substr(pos, comma - pos)));
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  return out;
 }
 
 }  // namespace
