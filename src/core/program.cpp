@@ -66,6 +66,9 @@ Program Program::compile(const Tree& tree) {
                   node.shape.type == PrimitiveType::kCircle) &&
                  ins.has_translate && !ins.has_rotate && !ins.has_scale &&
                  node.step.kind == StepKind::kSigmoid;
+      // The kernel's ball path reads radius, centre, sharpness at these offsets.
+      FUZZYCSG_ASSERT(!ins.ball || (ins.num_theta == 1 && ins.translate_at == 1 &&
+                                    ins.step_at == 1 + static_cast<std::uint32_t>(dim)));
     }
     next_const += ins.num_consts;
     ++leaves;
