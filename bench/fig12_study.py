@@ -63,6 +63,11 @@ MODES = {
     "product-reseed": ["--ops", "product", "--reseed-every", "1000"],
     "lr3-ts-reseed": ["--ops", "unified", "--lr", "3e-3", "--temperature-ramp", "0",
                       "--type-search-every", "500", "--reseed-every", "1000"],
+    # Unified operators that are unions or intersections only (--op-types): with quadric
+    # leaves a difference is an intersection with a negated leaf (fuzzycsg/fit/types.hpp).
+    "unified-ui": ["--ops", "unified", "--op-types", "union-intersection"],
+    "ts-ui": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-ramp", "0",
+              "--type-search-every", "500"],
     # Balls instead of quadrics: a leaf cannot become its own complement.
     "unified-sphere": ["--ops", "unified", "--family", "sphere"],
     "product-sphere": ["--ops", "product", "--family", "sphere"],
@@ -134,6 +139,7 @@ def main():
                                      f'{c1["primitives"]}+{c1["operators"]}',
                             "nodes_after": c1["primitives"] + c1["operators"],
                             "changed": r["operators"]["changed_type"],
+                            "restructured": r["operators"].get("changed_structure"),
                             "unified": r["operators"]["unified"],
                             "switches": r["operators"].get("type_switches", 0),
                             "seconds": r["timings"]["train_seconds"],

@@ -22,10 +22,15 @@ def primitives_after(row):
 
 
 def changed(sel):
-    # Unified operators whose type differs from the start, of how many ("-" for fixed ones).
+    # Unified operators whose type differs from the start, of how many ("-" for fixed ones),
+    # and in brackets the structure bits that changed (include/fuzzycsg/fit/types.hpp,
+    # structure_bits) where the runs recorded them.
     if not all(r.get("unified") for r in sel):
         return "-"
-    return f'{statistics.median(r["changed"] for r in sel):g}/{sel[0]["unified"]}'
+    out = f'{statistics.median(r["changed"] for r in sel):g}/{sel[0]["unified"]}'
+    if all(r.get("restructured") is not None for r in sel):
+        out += f' ({statistics.median(r["restructured"] for r in sel):g})'
+    return out
 
 
 def main():

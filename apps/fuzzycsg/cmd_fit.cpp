@@ -312,8 +312,8 @@ int run_fit_job(const FitJob& job) {
                duration(r.train_seconds), stop_reason_name(r.stop),
                r.state.curve.empty() ? 0.0 : r.state.curve.back().loss);
     if (r.operators_total > 0) {
-      fmt::print("fit: {} of {} operators changed type during training\n", r.operators_changed,
-                 r.operators_total);
+      fmt::print("fit: {} of {} operators changed type during training, {} structure bits\n",
+                 r.operators_changed, r.operators_total, r.operators_restructured);
     }
     if (options.init == InitMode::kBalls) {
       fmt::print("fit: {} primitives started as balls inside the target\n", r.initialised_leaves);
@@ -370,6 +370,12 @@ Verb register_fit(CLI::App& app) {
                  "Unified operators' start: uniform (logits U[-r, r], as the paper: a "
                  "difference half of the time) or balanced (union, intersection, "
                  "difference a third each, as the fixed baselines)"));
+  model.push_back(add_choice(
+      cmd, "--op-types", o->op_types,
+      {{"all", OperatorTypes::kAll}, {"union-intersection", OperatorTypes::kUnionIntersection}},
+      "Types a unified operator can take: all four of B_c, or union and intersection only "
+      "(with quadric, conic or plane leaves these reach, with some leaves negated, what the "
+      "four reach)"));
   model.push_back(cmd->add_option("--batch", o->batch, "Points per step")->capture_default_str());
   model.push_back(cmd->add_option("--pool", o->pool,
                                   "Points drawn at each resampling (0: the batch); steps cycle "

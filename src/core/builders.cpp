@@ -3,6 +3,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -49,8 +50,10 @@ class Builder {
       n.op = OpKind::kUnified;
       n.unified_logits = true;
       const std::array<double, 4> logits = unified_logits();
+      const bool two = o_.op_types == OperatorTypes::kUnionIntersection;
       for (int i = 0; i < 4; ++i) {
-        n.unified.push_back(param(path + ".logits[" + std::to_string(i) + "]", logits[i], false));
+        n.unified.push_back(
+            param(path + ".logits[" + std::to_string(i) + "]", logits[i], two && i >= 2));
       }
       n.temperature = param(path + ".temperature", o_.temperature, true, Range::positive());
       n.omega = param(path + ".omega", o_.omega, true);
@@ -67,18 +70,24 @@ class Builder {
   // The logits of one unified operator (OperatorInit).
   std::array<double, 4> unified_logits() {
     std::array<double, 4> c{};
+    // kUnionIntersection: the difference entries where sin(ω c̃) = -1 (fixed), two free ones.
+    const bool two = o_.op_types == OperatorTypes::kUnionIntersection;
+    const int free = two ? 2 : 4;
+    const double lowest = o_.omega != 0 ? -std::numbers::pi / (2 * o_.omega) : 0.0;
+    if (two) c[2] = c[3] = lowest;
     if (o_.op_init == OperatorInit::kUniform) {
-      for (double& v : c) v = uniform();
+      for (int i = 0; i < free; ++i) c[i] = uniform();
       return c;
     }
     // Union, intersection, difference a third each; the last two entries are A - B and B - A.
+    // With two types, union and intersection a half each.
     constexpr int kType[6] = {0, 0, 1, 1, 2, 3};
-    const int want = kType[rng_() % 6];
+    const int want = two ? static_cast<int>(rng_() % 2) : kType[rng_() % 6];
     // A handful of draws on average; bounded for degenerate settings (ω or init_range 0, where
     // every draw has the same argmax), which keep the last draw.
     for (int attempt = 0; attempt < 1000; ++attempt) {
       int best = 0;
-      for (int i = 0; i < 4; ++i) {
+      for (int i = 0; i < free; ++i) {
         c[i] = uniform();
         if (std::sin(o_.omega * c[i]) > std::sin(o_.omega * c[best])) best = i;
       }

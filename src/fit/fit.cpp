@@ -64,9 +64,11 @@ std::vector<std::size_t> temperature_indices(const Tree& tree) {
 
 // The boolean each unified operator currently selects: argmax of c, which for t > 0 is the
 // argmax of sin(omega * logits).
+// Indexed like tree.nodes; -1 for nodes that are not unified operators.
 std::vector<int> operator_types(const Tree& tree, std::span<const double> params) {
-  std::vector<int> out;
-  for (const Node& n : tree.nodes) {
+  std::vector<int> out(tree.nodes.size(), -1);
+  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+    const Node& n = tree.nodes[k];
     if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
     std::array<double, 4> w{};
     for (int i = 0; i < 4; ++i) w[i] = params[n.unified[i].index];
@@ -74,7 +76,7 @@ std::vector<int> operator_types(const Tree& tree, std::span<const double> params
       const double omega = n.omega ? params[n.omega->index] : 10.0;
       for (double& x : w) x = std::sin(omega * x);
     }
-    out.push_back(static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin()));
+    out[k] = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
   }
   return out;
 }
@@ -217,6 +219,7 @@ Tree make_initial_model(const FitOptions& o, int dim) {
   t.families = o.families;
   t.ops = o.ops;
   t.op_init = o.op_init;
+  t.op_types = o.op_types;
   t.init_range = o.init_range;
   t.seed = o.seed;
   t.temperature = o.temperature;
@@ -507,9 +510,13 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
   {
     const std::vector<int> before = operator_types(model, initial);
     const std::vector<int> after = operator_types(model, st.params);
-    result.operators_total = static_cast<int>(before.size());
+    const std::vector<int> bits_before = structure_bits(model, before);
+    const std::vector<int> bits_after = structure_bits(model, after);
     for (std::size_t i = 0; i < before.size(); ++i) {
+      if (before[i] < 0) continue;
+      ++result.operators_total;
       result.operators_changed += before[i] != after[i] ? 1 : 0;
+      result.operators_restructured += bits_before[i] != bits_after[i] ? 1 : 0;
     }
   }
   result.reseeded = st.reseeded;

@@ -29,47 +29,49 @@ std::string init_mode_name(InitMode m) {
 json options_to_json(const FitOptions& o) {
   json families = json::array();
   for (PrimitiveType f : o.families) families.push_back(std::string(primitive_info(f).name));
-  return json{{"prims", o.prims},
-              {"families", families},
-              {"ops", std::string(operator_mode_name(o.ops))},
-              {"op_init", o.op_init == OperatorInit::kBalanced ? "balanced" : "uniform"},
-              {"init", init_mode_name(o.init)},
-              {"init_range", o.init_range},
-              {"init_slope", o.init_slope},
-              {"temperature", o.temperature},
-              {"temperature_start", o.temperature_start},
-              {"temperature_ramp", o.temperature_ramp},
-              {"omega", o.omega},
-              {"seed", o.seed},
-              {"iters", o.iters},
-              {"batch", o.batch},
-              {"pool", o.pool},
-              {"resample_every", o.resample_every},
-              {"lr", o.lr},
-              {"beta1", o.beta1},
-              {"beta2", o.beta2},
-              {"adam_eps", o.adam_eps},
-              {"lr_schedule", o.lr_schedule == LrSchedule::kCosine ? "cosine" : "constant"},
-              {"lr_end", o.lr_end},
-              {"reseed_every", o.reseed_every},
-              {"reseed_until", o.reseed_until},
-              {"type_search_every", o.type_search_every},
-              {"type_search_from", o.type_search_from},
-              {"type_search_until", o.type_search_until},
-              {"type_search_points", o.type_search_points},
-              {"type_search_switches", o.type_search_switches},
-              {"sampling",
-               {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
-                {"surface", o.sampling.surface},
-                {"near", o.sampling.near},
-                {"near_distance", o.sampling.near_distance}}},
-              {"time_limit", o.time_limit},
-              {"prune_threshold", o.prune_threshold},
-              {"prune_points", o.prune_points},
-              {"metric_points", o.metrics.points},
-              {"chamfer", o.metrics.chamfer},
-              {"chamfer_resolution", o.metrics.chamfer_resolution},
-              {"chamfer_samples", o.metrics.chamfer_samples}};
+  return json{
+      {"prims", o.prims},
+      {"families", families},
+      {"ops", std::string(operator_mode_name(o.ops))},
+      {"op_init", o.op_init == OperatorInit::kBalanced ? "balanced" : "uniform"},
+      {"op_types", o.op_types == OperatorTypes::kUnionIntersection ? "union-intersection" : "all"},
+      {"init", init_mode_name(o.init)},
+      {"init_range", o.init_range},
+      {"init_slope", o.init_slope},
+      {"temperature", o.temperature},
+      {"temperature_start", o.temperature_start},
+      {"temperature_ramp", o.temperature_ramp},
+      {"omega", o.omega},
+      {"seed", o.seed},
+      {"iters", o.iters},
+      {"batch", o.batch},
+      {"pool", o.pool},
+      {"resample_every", o.resample_every},
+      {"lr", o.lr},
+      {"beta1", o.beta1},
+      {"beta2", o.beta2},
+      {"adam_eps", o.adam_eps},
+      {"lr_schedule", o.lr_schedule == LrSchedule::kCosine ? "cosine" : "constant"},
+      {"lr_end", o.lr_end},
+      {"reseed_every", o.reseed_every},
+      {"reseed_until", o.reseed_until},
+      {"type_search_every", o.type_search_every},
+      {"type_search_from", o.type_search_from},
+      {"type_search_until", o.type_search_until},
+      {"type_search_points", o.type_search_points},
+      {"type_search_switches", o.type_search_switches},
+      {"sampling",
+       {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
+        {"surface", o.sampling.surface},
+        {"near", o.sampling.near},
+        {"near_distance", o.sampling.near_distance}}},
+      {"time_limit", o.time_limit},
+      {"prune_threshold", o.prune_threshold},
+      {"prune_points", o.prune_points},
+      {"metric_points", o.metrics.points},
+      {"chamfer", o.metrics.chamfer},
+      {"chamfer_resolution", o.metrics.chamfer_resolution},
+      {"chamfer_samples", o.metrics.chamfer_samples}};
 }
 
 // Reads fields with one-line errors naming the file and the JSON path.
@@ -156,6 +158,14 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
     o.op_init = OperatorInit::kBalanced;
   } else {
     r.fail(w + ".op_init", "must be uniform or balanced");
+  }
+  const std::string op_types = r.get_or<std::string>(j, w, "op_types", "all");
+  if (op_types == "all") {
+    o.op_types = OperatorTypes::kAll;
+  } else if (op_types == "union-intersection") {
+    o.op_types = OperatorTypes::kUnionIntersection;
+  } else {
+    r.fail(w + ".op_types", "must be all or union-intersection");
   }
   const std::string init = r.get_or<std::string>(j, w, "init", "random");
   if (init == "random") {
@@ -349,6 +359,7 @@ std::string fit_report_json(const FitResult& r, const FitOptions& o, const Repor
   j["final_loss"] = r.state.curve.empty() ? json(nullptr) : json(r.state.curve.back().loss);
   j["operators"] = {{"unified", r.operators_total},
                     {"changed_type", r.operators_changed},
+                    {"changed_structure", r.operators_restructured},
                     {"type_searches", r.type_searches},
                     {"type_switches", r.type_switches}};
   j["init"] = {{"leaves_from_target", r.initialised_leaves}, {"reseeded_leaves", r.reseeded}};

@@ -2,6 +2,7 @@
 #include "fuzzycsg/fit/types.hpp"
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <utility>
 
@@ -76,8 +77,10 @@ TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evalu
                                        const TypeSearchOptions& o, Rng& rng) {
   TypeSearchReport rep;
   const std::size_t nodes = model.nodes.size();
-  // Operators whose four weights are free and their own (a weight that is fixed, or shared with
-  // another operator, cannot be swapped for this operator alone).
+  // Operators whose four weights are their own and of which at least two are free (a weight
+  // shared with another operator cannot be swapped for this operator alone); switches are made
+  // between free weights only (a fixed one, as the differences of OperatorTypes::
+  // kUnionIntersection, keeps its place).
   std::vector<int> uses(model.params.size(), 0);
   for (const Node& n : model.nodes) {
     if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
@@ -91,10 +94,12 @@ TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evalu
       continue;
     }
     bool own = true;
+    int free = 0;
     for (const ParamRef& r : n.unified) {
-      own = own && uses[r.index] == 1 && !model.params.at(r.index).fixed;
+      own = own && uses[r.index] == 1;
+      free += model.params.at(r.index).fixed ? 0 : 1;
     }
-    if (own) unified.push_back(static_cast<int>(k));
+    if (own && free >= 2) unified.push_back(static_cast<int>(k));
   }
   rep.operators = static_cast<int>(unified.size());
   if (unified.empty()) return rep;
@@ -121,8 +126,11 @@ TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evalu
       const Node& n = model.nodes[static_cast<std::size_t>(k)];
       const auto c = unified_weights_at(n, params);
       const int from = static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
+      if (model.params.at(n.unified[static_cast<std::size_t>(from)].index).fixed) continue;
       for (int to = 0; to < 4; ++to) {
-        if (to == from) continue;
+        if (to == from || model.params.at(n.unified[static_cast<std::size_t>(to)].index).fixed) {
+          continue;
+        }
         edits.push_back({k, swap_delta(c, from, to)});
         switches.push_back({k, from, to, 0.0});
       }
@@ -188,6 +196,25 @@ TypeSearchReport search_operator_types(const Tree& model, const Evaluator& evalu
   }
   rep.loss_after = judged;
   return rep;
+}
+
+std::vector<int> structure_bits(const Tree& tree, std::span<const int> types) {
+  constexpr std::array<std::array<bool, 3>, 4> kNeg{
+      {{false, false, false}, {true, true, true}, {false, false, true}, {false, true, false}}};
+  std::vector<bool> negated(tree.nodes.size(), false);  // by the parent
+  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+    const Node& n = tree.nodes[k];
+    if (types[k] < 0 || n.children.size() != 2) continue;
+    for (std::size_t side = 0; side < 2; ++side) {
+      negated.at(static_cast<std::size_t>(n.children[side])) =
+          kNeg[static_cast<std::size_t>(types[k])][1 + side];
+    }
+  }
+  std::vector<int> out(tree.nodes.size(), -1);
+  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+    if (types[k] >= 0) out[k] = kNeg[static_cast<std::size_t>(types[k])][0] != negated[k] ? 1 : 0;
+  }
+  return out;
 }
 
 }  // namespace fuzzycsg

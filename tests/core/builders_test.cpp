@@ -106,6 +106,33 @@ TEST(Builders, OperatorInitDrawsTheTypesAsDocumented) {
   EXPECT_NO_THROW(make_full_binary_tree(o));
 }
 
+TEST(Builders, UnionIntersectionOperatorsPinTheirDifferences) {
+  FullTreeOptions o;
+  o.leaves = 4096;
+  o.seed = 3;
+  o.op_types = OperatorTypes::kUnionIntersection;
+  const std::array<double, 4> uniform = type_shares(o);
+  EXPECT_NEAR(uniform[0], 0.5, 0.03);
+  EXPECT_NEAR(uniform[1], 0.5, 0.03);
+  EXPECT_EQ(uniform[2] + uniform[3], 0.0);
+  o.op_init = OperatorInit::kBalanced;
+  const std::array<double, 4> balanced = type_shares(o);
+  EXPECT_NEAR(balanced[0], 0.5, 0.03);
+  EXPECT_EQ(balanced[2] + balanced[3], 0.0);
+  o.leaves = 8;
+  const Tree t = make_full_binary_tree(o);
+  for (const Node& n : t.nodes) {
+    if (n.kind != NodeKind::kOperator) continue;
+    for (int i = 0; i < 4; ++i) {
+      const Parameter& p = t.params[n.unified[static_cast<std::size_t>(i)]];
+      EXPECT_EQ(p.fixed, i >= 2) << p.name;
+      if (i >= 2) {
+        EXPECT_NEAR(std::sin(o.omega * p.value), -1.0, 1e-12) << p.name;
+      }
+    }
+  }
+}
+
 TEST(Builders, RejectsBadOptions) {
   FullTreeOptions o;
   o.leaves = 12;

@@ -403,6 +403,7 @@ TEST(Fit, TargetInitialisationAndReseedingResumeBitIdentically) {
   o.reseed_until = 1.0;
   o.lr_schedule = LrSchedule::kCosine;
   o.op_init = OperatorInit::kBalanced;
+  o.op_types = OperatorTypes::kUnionIntersection;
   const FitResult full = fit(target, o);
   EXPECT_EQ(full.initialised_leaves, 8);
 
@@ -426,6 +427,7 @@ TEST(Fit, TargetInitialisationAndReseedingResumeBitIdentically) {
   EXPECT_EQ(back.options.reseed_every, 40);
   EXPECT_EQ(back.options.lr_schedule, LrSchedule::kCosine);
   EXPECT_EQ(back.options.op_init, OperatorInit::kBalanced);
+  EXPECT_EQ(back.options.op_types, OperatorTypes::kUnionIntersection);
   EXPECT_EQ(back.state.reseeded, at100.reseeded);
   const FitResult resumed = fit(target, back.options, {}, &back.state);
   EXPECT_EQ(resumed.trained.params.values(), full.trained.params.values());

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -100,7 +103,7 @@ TEST(TypeSearch, FindsTheDifferenceThatAUnionMisses) {
   EXPECT_EQ(params, before);
 }
 
-TEST(TypeSearch, LeavesFixedWeightsAlone) {
+TEST(TypeSearch, SwitchesBetweenFreeWeightsOnly) {
   const NotchedBall target;
   FullTreeOptions t;
   t.leaves = 2;
@@ -110,17 +113,41 @@ TEST(TypeSearch, LeavesFixedWeightsAlone) {
   ASSERT_TRUE(set_leaf_to_ball(model, leaves[0], Ball{{0, 0, 0}, 0.6}, true, 30, params));
   ASSERT_TRUE(set_leaf_to_ball(model, leaves[1], Ball{{0.35, 0, 0}, 0.3}, true, 30, params));
   const Node& root = model.nodes[static_cast<std::size_t>(model.root)];
-  set_type(root, 1, params);  // a union, which the search would make a difference
-  model.params[root.unified[3]].fixed = true;
-  const std::vector<double> before = params;
-  const Evaluator ev(model, EvalOptions{2});
+  set_type(root, 1, params);  // a union, which the search would make x \ y (type 2)
+  const std::vector<double> start = params;
   TypeSearchOptions o;
   o.sampling.surface = 0;
-  Rng rng(3);
-  const TypeSearchReport r = search_operator_types(model, ev, target, params, {}, {}, o, rng);
-  EXPECT_EQ(r.operators, 0);
-  EXPECT_EQ(r.switched, 0);
-  EXPECT_EQ(params, before);
+  {
+    // x \ y fixed: no other type is better than the union, nothing moves.
+    model.params[root.unified[2]].fixed = true;
+    const Evaluator ev(model, EvalOptions{2});
+    Rng rng(3);
+    const TypeSearchReport r = search_operator_types(model, ev, target, params, {}, {}, o, rng);
+    EXPECT_EQ(r.operators, 1);
+    EXPECT_EQ(r.switched, 0);
+    EXPECT_EQ(params, start);
+    model.params[root.unified[2]].fixed = false;
+  }
+  {
+    // y \ x fixed: the union still becomes x \ y, and the fixed weight keeps its value.
+    model.params[root.unified[3]].fixed = true;
+    const Evaluator ev(model, EvalOptions{2});
+    Rng rng(3);
+    const TypeSearchReport r = search_operator_types(model, ev, target, params, {}, {}, o, rng);
+    EXPECT_EQ(r.switched, 1);
+    EXPECT_EQ(unified_type(root, params), 2);
+    EXPECT_EQ(params[root.unified[3].index], start[root.unified[3].index]);
+  }
+  {
+    // Three weights fixed: no switch to make.
+    for (int i : {0, 2, 3}) model.params[root.unified[static_cast<std::size_t>(i)]].fixed = true;
+    params = start;
+    const Evaluator ev(model, EvalOptions{2});
+    Rng rng(3);
+    const TypeSearchReport r = search_operator_types(model, ev, target, params, {}, {}, o, rng);
+    EXPECT_EQ(r.operators, 0);
+    EXPECT_EQ(params, start);
+  }
 }
 
 TEST(TypeSearch, NeverWorseOnTheJudgingSampleAndCountsAgree) {
@@ -210,6 +237,163 @@ TEST(TypeSearch, ResumeIsBitIdentical) {
   const FitResult resumed = fit(target, ck.options, {}, &ck.state);
   EXPECT_EQ(resumed.trained.params.values(), full.trained.params.values());
   EXPECT_EQ(resumed.type_switches, full.type_switches);
+}
+
+// A boolean of a fixed tree as N^o(N^l(A) ∩ N^r(B)), N the complement: intersection (0, 0, 0),
+// union (1, 1, 1) (A ∪ B = ¬(¬A ∩ ¬B), exactly so in product logic), A \ B (0, 0, 1) and
+// B \ A (0, 1, 0) (a difference with its children swapped).
+struct Negations {
+  bool o, l, r;
+};
+
+Negations negations_of(const Node& n, bool swapped) {
+  if (n.op == OpKind::kUnion) return {true, true, true};
+  if (n.op == OpKind::kIntersection) return {false, false, false};
+  return swapped ? Negations{false, true, false} : Negations{false, false, true};
+}
+
+// Gives `twin` (a copy of `original`) other operator types below node `i` such that node `i`
+// of the twin is the complement of the original's when `complemented`, and the same function
+// otherwise: the type's output negation is forced, its input negations are free (drawn from
+// `rng`), and what they change is handed down, to a leaf as the negation of its coefficients
+// (a quadric's complement: sigmoid(-s q) = 1 - sigmoid(s q)). Returns the operators retyped
+// and marks the negated leaves' parameters in `sign` (-1).
+// The type indices of a fixed tree's booleans (0 intersection, 1 union, 2 x \ y) for
+// structure_bits; its leaves -1.
+std::vector<int> fixed_types(const Tree& tree) {
+  std::vector<int> out;
+  for (const Node& n : tree.nodes) {
+    out.push_back(n.kind != NodeKind::kOperator   ? -1
+                  : n.op == OpKind::kIntersection ? 0
+                  : n.op == OpKind::kUnion        ? 1
+                                                  : 2);
+  }
+  return out;
+}
+
+int retype(const Tree& original, Tree& twin, int i, bool complemented, std::mt19937_64& rng,
+           std::vector<double>& sign, bool negate_leaves) {
+  const Node& n = original.node(i);
+  if (n.kind == NodeKind::kPrimitive) {
+    if (complemented && negate_leaves) {
+      for (ParamRef r : n.intrinsic) {
+        twin.params[r].value = -twin.params[r].value;
+        sign[r.index] = -1;
+      }
+    }
+    return 0;
+  }
+  const Negations was = negations_of(n, false);
+  const bool o = was.o != complemented;
+  Negations now{true, true, true};
+  bool swapped = false;
+  if (!o) {
+    const int pick = static_cast<int>(rng() % 3);  // intersection, A \ B, B \ A
+    swapped = pick == 2;
+    now = pick == 0 ? Negations{false, false, false} : Negations{false, pick == 2, pick == 1};
+  }
+  Node& t = twin.nodes.at(static_cast<std::size_t>(i));
+  t.op = o ? OpKind::kUnion : (now.l || now.r ? OpKind::kDifference : OpKind::kIntersection);
+  int changed = t.op != n.op || swapped ? 1 : 0;
+  changed += retype(original, twin, n.children[0], was.l != now.l, rng, sign, negate_leaves);
+  changed += retype(original, twin, n.children[1], was.r != now.r, rng, sign, negate_leaves);
+  if (swapped) std::swap(t.children[0], t.children[1]);
+  return changed;
+}
+
+TEST(ProductLogicTwins, StructureBitsAreOutputNegationsAsTheParentSeesThem) {
+  FullTreeOptions t;
+  t.leaves = 4;
+  t.ops = OperatorMode::kProduct;
+  Tree tree = make_full_binary_tree(t);
+  const int root = tree.root;
+  const int left = tree.node(root).children[0], right = tree.node(root).children[1];
+  auto bits = [&](OpKind r, OpKind a, OpKind b) {
+    tree.nodes[static_cast<std::size_t>(root)].op = r;
+    tree.nodes[static_cast<std::size_t>(left)].op = a;
+    tree.nodes[static_cast<std::size_t>(right)].op = b;
+    const std::vector<int> all = structure_bits(tree, fixed_types(tree));
+    return std::vector<int>{all[static_cast<std::size_t>(root)],
+                            all[static_cast<std::size_t>(left)],
+                            all[static_cast<std::size_t>(right)]};
+  };
+  using enum OpKind;
+  // (a ∩ b) ∪ (c ∩ d) = ¬(¬(a ∩ b) ∩ ¬(c ∩ d)): all three are complemented intersections.
+  EXPECT_EQ(bits(kUnion, kIntersection, kIntersection), (std::vector<int>{1, 1, 1}));
+  EXPECT_EQ(bits(kIntersection, kIntersection, kIntersection), (std::vector<int>{0, 0, 0}));
+  // (a ∩ b) \ (c ∩ d) = (a ∩ b) ∩ ¬(c ∩ d).
+  EXPECT_EQ(bits(kDifference, kIntersection, kIntersection), (std::vector<int>{0, 0, 1}));
+  // (a ∪ b) \ (c \ d) = ¬(¬a ∩ ¬b) ∩ ¬(c ∩ ¬d).
+  EXPECT_EQ(bits(kDifference, kUnion, kDifference), (std::vector<int>{0, 1, 1}));
+  // (a \ b) ∪ (c ∪ d) = ¬(¬(a ∩ ¬b) ∩ (¬c ∩ ¬d)): the inner union, complemented by the root's,
+  // is an intersection.
+  EXPECT_EQ(bits(kUnion, kDifference, kUnion), (std::vector<int>{1, 1, 0}));
+  const std::vector<int> all = structure_bits(tree, fixed_types(tree));
+  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+    if (tree.nodes[k].kind == NodeKind::kPrimitive) {
+      EXPECT_EQ(all[k], -1);
+    }
+  }
+}
+
+// Why optimising the types gains little with quadrics (docs/results.md, Fig. 12): a quadric's
+// complement is a quadric, so in product logic many type assignments are one function with
+// some leaves' coefficients negated — and, Adam being odd in each parameter, one training run.
+// The 4^(P-1) type assignments of a tree's P - 1 booleans give at most 2^(P-1) families of
+// functions: a node contributes one bit (whether its parent sees an intersection or the
+// complement of one), and the rest of its type moves into the leaves below.
+TEST(ProductLogicTwins, QuadricTreesWithOtherTypesAreTheSameFunction) {
+  FullTreeOptions t;
+  t.leaves = 32;
+  t.ops = OperatorMode::kProduct;
+  t.seed = 5;
+  const Tree original = make_full_binary_tree(t);
+  const std::vector<float> points = testing::random_points(4096, 3, 11);
+  std::vector<float> labels(4096);
+  testing::BallTarget(3, {0.1, 0, 0}, 0.5).occupancy(points, labels);
+
+  const Evaluator ev(original, EvalOptions{2});
+  std::vector<double> grad(ev.num_params());
+  std::vector<float> occ(4096);
+  Loss loss;
+  loss.kind = Loss::Kind::kMse;
+  loss.targets = labels;
+  const double value = ev.backward(original.params.values(), points, loss, grad, occ);
+
+  for (std::uint64_t seed = 0; seed < 4; ++seed) {
+    Tree twin = original;
+    std::mt19937_64 rng(seed);
+    std::vector<double> sign(original.params.size(), 1.0);
+    const int changed = retype(original, twin, original.root, false, rng, sign, true);
+    EXPECT_GE(changed, 8) << "seed " << seed;  // a real variation of the types
+    EXPECT_EQ(structure_bits(twin, fixed_types(twin)),
+              structure_bits(original, fixed_types(original)))
+        << "seed " << seed;
+    const Evaluator tev(twin, EvalOptions{2});
+    std::vector<double> tgrad(tev.num_params());
+    std::vector<float> tocc(4096);
+    const double tvalue = tev.backward(twin.params.values(), points, loss, tgrad, tocc);
+    EXPECT_NEAR(tvalue, value, 1e-6 * value) << "seed " << seed;
+    float worst = 0;
+    for (std::size_t k = 0; k < occ.size(); ++k)
+      worst = std::max(worst, std::abs(tocc[k] - occ[k]));
+    EXPECT_LT(worst, 1e-5f) << "seed " << seed;
+    // dL/dθ of the twin is ±dL/dθ of the original: Adam's steps are the same up to sign.
+    for (std::size_t k = 0; k < grad.size(); ++k) {
+      EXPECT_NEAR(tgrad[k], sign[k] * grad[k], 1e-5 * std::abs(grad[k]) + 1e-9)
+          << "seed " << seed << ", " << original.params.at(k).name;
+    }
+  }
+
+  // Balls have no complement among balls: the same retyping is another function.
+  t.family = PrimitiveType::kSphere;
+  const Tree balls = make_full_binary_tree(t);
+  Tree twin = balls;
+  std::mt19937_64 rng(0);
+  std::vector<double> sign(balls.params.size(), 1.0);
+  ASSERT_GE(retype(balls, twin, balls.root, false, rng, sign, false), 8);
+  EXPECT_GT(testing::mse(testing::occupancy(twin, points), testing::occupancy(balls, points)),
+            1e-3);
 }
 
 TEST(TypeSearch, OptionsAreValidated) {

@@ -24,6 +24,15 @@ enum class OperatorMode {
 // from U[-init_range, init_range]^4 until its argmax is that type.
 enum class OperatorInit { kUniform, kBalanced };
 
+// Which types a unified operator can take. kAll: the four of B_c. kUnionIntersection: union
+// or intersection only — the two difference logits are fixed where sin(ω c̃) = -1, below any
+// free one, so their weights stay the smallest. With leaves whose family holds the complements
+// of its members (quadrics, conics, planes) this loses nothing a tree can express (every
+// structure bit of include/fuzzycsg/fit/types.hpp can still be set, the rest of a type being a
+// negation of leaves), and a soft operator then blends x ∩ y with x ∪ y instead of y with its
+// complement (x ∩ y with x \ y, where a half-way weight erases y).
+enum class OperatorTypes { kAll, kUnionIntersection };
+
 struct FullTreeOptions {
   int dim = 3;
   int leaves = 64;  // a power of two
@@ -31,6 +40,7 @@ struct FullTreeOptions {
   std::vector<PrimitiveType> families;  // when non-empty, leaf i is families[i % size] (a mix)
   OperatorMode ops = OperatorMode::kUnified;
   OperatorInit op_init = OperatorInit::kUniform;
+  OperatorTypes op_types = OperatorTypes::kAll;
   double init_range = 0.5;  // every free number drawn from U[-init_range, init_range] ...
   std::uint64_t seed = 0;
   double temperature = 1000.0;

@@ -39,6 +39,7 @@ struct FitOptions {
   std::vector<PrimitiveType> families;  // leaf i is families[i % size]; empty: quadric of dim
   OperatorMode ops = OperatorMode::kUnified;
   OperatorInit op_init = OperatorInit::kUniform;  // unified operators' logits (builders.hpp)
+  OperatorTypes op_types = OperatorTypes::kAll;   // the types they can take (builders.hpp)
   InitMode init = InitMode::kRandom;
   double init_range = 0.5;  // parameters ~ U[-init_range, init_range] (App. A)
   // kBalls, kSurface: the occupancy's slope across the leaves' surfaces at the start (0: 20 for
@@ -141,6 +142,11 @@ struct FitResult {
   long last_good_step = 0;
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
+  // Unified operators whose structure bit differs from the start: whether the parent sees an
+  // intersection or the complement of one (src/fit/fit.cpp, structure_bits). With leaves whose
+  // family holds their complements (quadrics, conics, planes), a type change that keeps every
+  // bit is a negation of leaves, not another structure.
+  int operators_restructured = 0;
   long reseeded = 0;           // leaves moved by re-seeding
   long type_switches = 0;      // operator types changed by the type search
   int type_searches = 0;       // searches run by this call

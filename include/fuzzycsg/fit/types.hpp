@@ -51,6 +51,18 @@ struct TypeSearchReport {
 // node selects: the largest of its weights.
 int unified_type(const Node& node, std::span<const double> params);
 
+// The structure bit of every binary operator, from `types` (indexed like tree.nodes: the type
+// index as above, -1 for nodes that are not operators to consider): whether its parent sees an
+// intersection or the complement of one. A type is N^o(N^l(x) ∩ N^r(y)), N the complement
+// (intersection (0, 0, 0), union (1, 1, 1), x \ y (0, 0, 1), y \ x (0, 1, 0)), which product
+// logic satisfies exactly; the bit is o XOR the negation the parent applies to this input (none
+// at the root). When every leaf's family holds the complements of its members (quadrics,
+// conics, planes: sigmoid(-s q) = 1 - sigmoid(s q)), two type assignments with the same bits
+// are the same family of functions and train alike, the rest of a type being a negation of
+// leaves; so of the 4^(P-1) assignments of a full tree at most 2^(P-1) differ. Entries of
+// non-operators are -1.
+std::vector<int> structure_bits(const Tree& tree, std::span<const int> types);
+
 // The unified operator's weights c at `params` (softmax(sin(ω c̃) t) for logits).
 std::array<double, 4> unified_weights_at(const Node& node, std::span<const double> params);
 
