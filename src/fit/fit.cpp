@@ -63,8 +63,8 @@ std::vector<std::size_t> temperature_indices(const Tree& tree) {
 }
 
 // The boolean each unified operator currently selects: argmax of c, which for t > 0 is the
-// argmax of sin(omega * logits).
-// Indexed like tree.nodes; -1 for nodes that are not unified operators.
+// argmax of sin(omega * logits). Indexed like tree.nodes; -1 for nodes that are not unified
+// operators.
 std::vector<int> operator_types(const Tree& tree, std::span<const double> params) {
   std::vector<int> out(tree.nodes.size(), -1);
   for (std::size_t k = 0; k < tree.nodes.size(); ++k) {

@@ -143,7 +143,7 @@ struct FitResult {
   int operators_changed = 0;  // unified operators whose argmax type differs from the start
   int operators_total = 0;
   // Unified operators whose structure bit differs from the start: whether the parent sees an
-  // intersection or the complement of one (src/fit/fit.cpp, structure_bits). With leaves whose
+  // intersection or the complement of one (structure_bits, fit/types.hpp). With leaves whose
   // family holds their complements (quadrics, conics, planes), a type change that keeps every
   // bit is a negation of leaves, not another structure.
   int operators_restructured = 0;
