@@ -81,14 +81,17 @@ def main():
                   f"{changed(sel)} | "
                   f"{statistics.median(r['seconds'] for r in sel):.1f} |")
     if args.versus:
+        # Pair by pair (one mesh and size): medians over the seeds, then the geometric mean
+        # of the ratios over the pairs, for the error and for the primitives kept after pruning.
         print()
         print(f"| mode | median MSE below {args.versus}'s | geometric mean of median MSE / "
-              f"{args.versus}'s |")
-        print("|---|---:|---:|")
+              f"{args.versus}'s | fewer primitives kept than {args.versus} | geometric mean "
+              f"of median primitives kept / {args.versus}'s |")
+        print("|---|---:|---:|---:|---:|")
         for m in modes:
             if m == args.versus:
                 continue
-            below, logs = 0, []
+            below, logs, fewer, kept_logs = 0, [], 0, []
             for by_mode in groups.values():
                 if m not in by_mode or args.versus not in by_mode:
                     continue
@@ -96,8 +99,14 @@ def main():
                 b = statistics.median(r["mse"] for r in by_mode[args.versus])
                 below += a < b
                 logs.append(math.log(a / b))
+                ka = statistics.median(primitives_after(r) for r in by_mode[m])
+                kb = statistics.median(primitives_after(r) for r in by_mode[args.versus])
+                fewer += ka < kb
+                kept_logs.append(math.log(ka / kb))
             if logs:
-                print(f"| {m} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} |")
+                print(f"| {m} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} | "
+                      f"{fewer} of {len(logs)} | "
+                      f"{math.exp(sum(kept_logs) / len(kept_logs)):.3f} |")
     if args.wins:
         wins = {m: 0 for m in modes}
         pairs = 0

@@ -13,12 +13,14 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/fit/fit.hpp"
+#include "fuzzycsg/fit/option_names.hpp"
 #include "fuzzycsg/fit/plot.hpp"
 #include "fuzzycsg/fit/report.hpp"
 #include "fuzzycsg/io/points.hpp"
@@ -104,26 +106,20 @@ std::vector<PrimitiveType> parse_families(const std::string& spec, int dim) {
 
 // An option that takes one of `choices` by name and sets `target` to its value; help and errors
 // list the names ("--init: Check surfaces value in {...}" would otherwise show the numbers).
-template <class E>
+template <class E, std::size_t N>
 CLI::Option* add_choice(CLI::App* cmd, const std::string& flag, E& target,
-                        std::vector<std::pair<std::string, E>> choices, const std::string& help) {
+                        const OptionNames<E, N>& choices, const std::string& help) {
   std::vector<std::string> names;
-  std::string current;
-  for (const auto& [name, value] : choices) {
-    names.push_back(name);
-    if (value == target) current = name;
-  }
+  for (const OptionName<E>& c : choices) names.emplace_back(c.name);
   return cmd
       ->add_option_function<std::string>(
           flag,
-          [&target, choices](const std::string& v) {
-            for (const auto& [name, value] : choices) {
-              if (name == v) target = value;
-            }
+          [&target, &choices](const std::string& v) {
+            if (const std::optional<E> value = option_value(choices, v)) target = *value;
           },
           help)
       ->check(CLI::IsMember(names))
-      ->default_str(current);
+      ->default_str(std::string(option_name(choices, target)));
 }
 
 }  // namespace
@@ -358,21 +354,16 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--family", job->family,
                                   "Primitive family: quadric (default), sphere, box, cylinder, "
                                   "plane, circle, rectangle, ..., a comma list, or mix"));
-  model.push_back(add_choice(cmd, "--ops", o->ops,
-                             {{"unified", OperatorMode::kUnified},
-                              {"product", OperatorMode::kProduct},
-                              {"godel", OperatorMode::kGodel}},
+  model.push_back(add_choice(cmd, "--ops", o->ops, kOperatorModeNames,
                              "Operators: unified B_c, or fixed random booleans with product or "
                              "Goedel logic"));
   model.push_back(
-      add_choice(cmd, "--op-init", o->op_init,
-                 {{"uniform", OperatorInit::kUniform}, {"balanced", OperatorInit::kBalanced}},
+      add_choice(cmd, "--op-init", o->op_init, kOperatorInitNames,
                  "Unified operators' start: uniform (logits U[-r, r], as the paper: a "
                  "difference half of the time) or balanced (union, intersection, "
                  "difference a third each, as the fixed baselines)"));
   model.push_back(add_choice(
-      cmd, "--op-types", o->op_types,
-      {{"all", OperatorTypes::kAll}, {"union-intersection", OperatorTypes::kUnionIntersection}},
+      cmd, "--op-types", o->op_types, kOperatorTypesNames,
       "Types a unified operator can take: all four of B_c, or union and intersection only "
       "(with quadric, conic or plane leaves these reach, with some leaves negated, what the "
       "four reach)"));
@@ -402,8 +393,7 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--init-range", o->init_range, "Initial parameters ~ U[-r, r]")
                       ->capture_default_str());
   model.push_back(add_choice(
-      cmd, "--init", o->init,
-      {{"random", InitMode::kRandom}, {"balls", InitMode::kBalls}, {"surface", InitMode::kSurface}},
+      cmd, "--init", o->init, kInitModeNames,
       "Start: random (U[-r, r], as the paper), balls (a union of balls "
       "covering the target) or surface (random quadrics through target "
       "surface points)"));
@@ -411,8 +401,7 @@ Verb register_fit(CLI::App& app) {
                                   "--init balls|surface: slope of the occupancy across each "
                                   "leaf's surface (0: 20 for balls, 1 for surface)")
                       ->capture_default_str());
-  model.push_back(add_choice(cmd, "--lr-schedule", o->lr_schedule,
-                             {{"constant", LrSchedule::kConstant}, {"cosine", LrSchedule::kCosine}},
+  model.push_back(add_choice(cmd, "--lr-schedule", o->lr_schedule, kLrScheduleNames,
                              "Learning rate: constant, or cosine from --lr down to "
                              "--lr * --lr-end"));
   model.push_back(cmd->add_option("--lr-end", o->lr_end,
@@ -451,8 +440,7 @@ Verb register_fit(CLI::App& app) {
                                   "Near points lie within this distance along the normal")
                       ->capture_default_str());
   model.push_back(add_choice(
-      cmd, "--sampler", o->sampling.scheme,
-      {{"appendix-a", SamplingScheme::kAppendixA}, {"release", SamplingScheme::kRelease}},
+      cmd, "--sampler", o->sampling.scheme, kSamplingSchemeNames,
       "Training points: appendix-a (Liu et al. App. A: --surface on the boundary, --near near "
       "it, the rest uniform) or release (pictures: the authors' release, a quarter uniform, the "
       "rest with density exp(1/(|d|/5 + 0.2)) at d pixels from the boundary)"));

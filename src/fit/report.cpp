@@ -5,8 +5,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <type_traits>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/fit/option_names.hpp"
 
 namespace fuzzycsg {
 
@@ -14,28 +16,16 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string init_mode_name(InitMode m) {
-  switch (m) {
-    case InitMode::kRandom:
-      return "random";
-    case InitMode::kBalls:
-      return "balls";
-    case InitMode::kSurface:
-      return "surface";
-  }
-  return "?";
-}
-
 json options_to_json(const FitOptions& o) {
   json families = json::array();
   for (PrimitiveType f : o.families) families.push_back(std::string(primitive_info(f).name));
   return json{
       {"prims", o.prims},
       {"families", families},
-      {"ops", std::string(operator_mode_name(o.ops))},
-      {"op_init", o.op_init == OperatorInit::kBalanced ? "balanced" : "uniform"},
-      {"op_types", o.op_types == OperatorTypes::kUnionIntersection ? "union-intersection" : "all"},
-      {"init", init_mode_name(o.init)},
+      {"ops", std::string(option_name(kOperatorModeNames, o.ops))},
+      {"op_init", std::string(option_name(kOperatorInitNames, o.op_init))},
+      {"op_types", std::string(option_name(kOperatorTypesNames, o.op_types))},
+      {"init", std::string(option_name(kInitModeNames, o.init))},
       {"init_range", o.init_range},
       {"init_slope", o.init_slope},
       {"temperature", o.temperature},
@@ -51,7 +41,7 @@ json options_to_json(const FitOptions& o) {
       {"beta1", o.beta1},
       {"beta2", o.beta2},
       {"adam_eps", o.adam_eps},
-      {"lr_schedule", o.lr_schedule == LrSchedule::kCosine ? "cosine" : "constant"},
+      {"lr_schedule", std::string(option_name(kLrScheduleNames, o.lr_schedule))},
       {"lr_end", o.lr_end},
       {"reseed_every", o.reseed_every},
       {"reseed_until", o.reseed_until},
@@ -113,6 +103,17 @@ class Reader {
     return get<T>(obj, where, key);
   }
 
+  // A setting named from `names` (option_names.hpp); `fallback` when absent, if given.
+  template <class E, std::size_t N>
+  E choice(const json& obj, const std::string& where, const char* key,
+           const OptionNames<E, N>& names,
+           std::type_identity_t<std::optional<E>> fallback = std::nullopt) const {
+    if (fallback && obj.is_object() && obj.find(key) == obj.end()) return *fallback;
+    const std::optional<E> v = option_value(names, get<std::string>(obj, where, key));
+    if (!v) fail(where + "." + key, "must be " + option_list(names));
+    return *v;
+  }
+
   std::vector<double> numbers(const json& obj, const std::string& where, const char* key) const {
     const json& v = field(obj, where, key);
     const std::string path = where + "." + key;
@@ -140,43 +141,12 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
     if (!type) r.fail(w + ".families", "unknown primitive " + f.get<std::string>());
     o.families.push_back(*type);
   }
-  const std::string ops = r.get<std::string>(j, w, "ops");
-  if (ops == "unified") {
-    o.ops = OperatorMode::kUnified;
-  } else if (ops == "product") {
-    o.ops = OperatorMode::kProduct;
-  } else if (ops == "godel") {
-    o.ops = OperatorMode::kGodel;
-  } else {
-    r.fail(w + ".ops", "must be unified, product or godel");
-  }
-  // Checkpoints written before there was a choice have none: App. A's uniform logits.
-  const std::string op_init = r.get_or<std::string>(j, w, "op_init", "uniform");
-  if (op_init == "uniform") {
-    o.op_init = OperatorInit::kUniform;
-  } else if (op_init == "balanced") {
-    o.op_init = OperatorInit::kBalanced;
-  } else {
-    r.fail(w + ".op_init", "must be uniform or balanced");
-  }
-  const std::string op_types = r.get_or<std::string>(j, w, "op_types", "all");
-  if (op_types == "all") {
-    o.op_types = OperatorTypes::kAll;
-  } else if (op_types == "union-intersection") {
-    o.op_types = OperatorTypes::kUnionIntersection;
-  } else {
-    r.fail(w + ".op_types", "must be all or union-intersection");
-  }
-  const std::string init = r.get_or<std::string>(j, w, "init", "random");
-  if (init == "random") {
-    o.init = InitMode::kRandom;
-  } else if (init == "balls") {
-    o.init = InitMode::kBalls;
-  } else if (init == "surface") {
-    o.init = InitMode::kSurface;
-  } else {
-    r.fail(w + ".init", "must be random, balls or surface");
-  }
+  o.ops = r.choice(j, w, "ops", kOperatorModeNames);
+  // Checkpoints written before there was a choice have none: App. A's uniform logits, all
+  // four types, the paper's random start.
+  o.op_init = r.choice(j, w, "op_init", kOperatorInitNames, OperatorInit::kUniform);
+  o.op_types = r.choice(j, w, "op_types", kOperatorTypesNames, OperatorTypes::kAll);
+  o.init = r.choice(j, w, "init", kInitModeNames, InitMode::kRandom);
   o.init_range = r.get<double>(j, w, "init_range");
   o.init_slope = r.get_or<double>(j, w, "init_slope", o.init_slope);
   o.temperature = r.get<double>(j, w, "temperature");
@@ -192,14 +162,7 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.beta1 = r.get<double>(j, w, "beta1");
   o.beta2 = r.get<double>(j, w, "beta2");
   o.adam_eps = r.get<double>(j, w, "adam_eps");
-  const std::string schedule = r.get_or<std::string>(j, w, "lr_schedule", "constant");
-  if (schedule == "constant") {
-    o.lr_schedule = LrSchedule::kConstant;
-  } else if (schedule == "cosine") {
-    o.lr_schedule = LrSchedule::kCosine;
-  } else {
-    r.fail(w + ".lr_schedule", "must be constant or cosine");
-  }
+  o.lr_schedule = r.choice(j, w, "lr_schedule", kLrScheduleNames, LrSchedule::kConstant);
   o.lr_end = r.get_or<double>(j, w, "lr_end", o.lr_end);
   o.reseed_every = r.get_or<long>(j, w, "reseed_every", 0L);
   o.reseed_until = r.get_or<double>(j, w, "reseed_until", o.reseed_until);
@@ -213,12 +176,8 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");
   o.sampling.near_distance = r.get<double>(s, w + ".sampling", "near_distance");
   // Checkpoints written before there was a choice of scheme have none: App. A's.
-  if (s.contains("scheme")) {
-    const std::string scheme = r.get<std::string>(s, w + ".sampling", "scheme");
-    const std::optional<SamplingScheme> parsed = sampling_scheme_from_name(scheme);
-    if (!parsed) r.fail(w + ".sampling.scheme", "must be appendix-a or release");
-    o.sampling.scheme = *parsed;
-  }
+  o.sampling.scheme = r.choice(s, w + ".sampling", "scheme", kSamplingSchemeNames,
+                               SamplingScheme::kAppendixA);
   o.time_limit = r.get<double>(j, w, "time_limit");
   o.prune_threshold = r.get<double>(j, w, "prune_threshold");
   o.prune_points = r.get<std::size_t>(j, w, "prune_points");
@@ -254,15 +213,7 @@ json counts_json(const Tree& tree) {
 }  // namespace
 
 std::string_view operator_mode_name(OperatorMode m) {
-  switch (m) {
-    case OperatorMode::kUnified:
-      return "unified";
-    case OperatorMode::kProduct:
-      return "product";
-    case OperatorMode::kGodel:
-      return "godel";
-  }
-  return "?";
+  return option_name(kOperatorModeNames, m);
 }
 
 std::string fit_options_json(const FitOptions& options) { return options_to_json(options).dump(2); }

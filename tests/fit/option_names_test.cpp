@@ -1,0 +1,139 @@
+// The settings chosen by name (fuzzycsg/fit/option_names.hpp) in checkpoints and reports: every
+// name round-trips, a wrong one is an error naming the field and the choices, and a field that
+// older checkpoints lack takes its documented default.
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "fit/fit_support.hpp"
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/fit/option_names.hpp"
+#include "fuzzycsg/fit/report.hpp"
+
+namespace fuzzycsg {
+namespace {
+
+using testing::write_temp;
+
+Checkpoint small_checkpoint(const FitOptions& options) {
+  Checkpoint ck;
+  ck.target = "part.obj";
+  ck.dim = 3;
+  ck.options = options;
+  ck.state.params = {1, 2};
+  ck.state.m = {0, 0};
+  ck.state.v = {0, 0};
+  return ck;
+}
+
+std::string read_error(const std::string& path) {
+  try {
+    (void)read_checkpoint(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// The checkpoint's text with `"key": "value"` replaced by `replacement` (empty: removed).
+std::string edited(const std::string& text, const std::string& key, const std::string& value,
+                   const std::string& replacement) {
+  const std::string field = "\"" + key + "\": \"" + value + "\",";
+  const std::size_t at = text.find(field);
+  EXPECT_NE(at, std::string::npos) << field;
+  if (at == std::string::npos) return text;
+  std::string out = text;
+  out.replace(at, field.size(), replacement);
+  return out;
+}
+
+TEST(OptionNames, ListsAndLookups) {
+  EXPECT_EQ(option_list(kOperatorModeNames), "unified, product or godel");
+  EXPECT_EQ(option_list(kOperatorTypesNames), "all or union-intersection");
+  EXPECT_EQ(option_value(kInitModeNames, "surface"), InitMode::kSurface);
+  EXPECT_EQ(option_value(kInitModeNames, "Surface"), std::nullopt);
+  EXPECT_EQ(option_name(kLrScheduleNames, LrSchedule::kCosine), "cosine");
+  EXPECT_EQ(option_name(kSamplingSchemeNames, SamplingScheme::kRelease), "release");
+}
+
+TEST(OptionNames, EveryNameRoundTripsThroughACheckpoint) {
+  int checked = 0;
+  auto round_trip = [&](const FitOptions& o) {
+    const std::string path = write_temp("fuzzycsg_option_names.json",
+                                        checkpoint_to_string(small_checkpoint(o)));
+    const Checkpoint back = read_checkpoint(path);
+    EXPECT_EQ(back.options.ops, o.ops);
+    EXPECT_EQ(back.options.op_init, o.op_init);
+    EXPECT_EQ(back.options.op_types, o.op_types);
+    EXPECT_EQ(back.options.init, o.init);
+    EXPECT_EQ(back.options.lr_schedule, o.lr_schedule);
+    ++checked;
+  };
+  for (const auto& n : kOperatorModeNames) {
+    FitOptions o;
+    o.ops = n.value;
+    round_trip(o);
+  }
+  for (const auto& n : kOperatorInitNames) {
+    FitOptions o;
+    o.op_init = n.value;
+    round_trip(o);
+  }
+  for (const auto& n : kOperatorTypesNames) {
+    FitOptions o;
+    o.op_types = n.value;
+    round_trip(o);
+  }
+  for (const auto& n : kInitModeNames) {
+    FitOptions o;
+    o.init = n.value;
+    round_trip(o);
+  }
+  for (const auto& n : kLrScheduleNames) {
+    FitOptions o;
+    o.lr_schedule = n.value;
+    round_trip(o);
+  }
+  EXPECT_EQ(checked, 12);
+}
+
+TEST(OptionNames, BadNamesAndOlderCheckpoints) {
+  FitOptions o;
+  o.ops = OperatorMode::kProduct;
+  o.op_init = OperatorInit::kBalanced;
+  o.op_types = OperatorTypes::kUnionIntersection;
+  o.init = InitMode::kBalls;
+  o.lr_schedule = LrSchedule::kCosine;
+  const std::string good = checkpoint_to_string(small_checkpoint(o));
+
+  const std::string bad_ops = write_temp("fuzzycsg_bad_ops.json",
+                                         edited(good, "ops", "product", "\"ops\": \"fuzzy\","));
+  EXPECT_EQ(read_error(bad_ops), bad_ops + ": settings.ops: must be unified, product or godel");
+  const std::string bad_types = write_temp(
+      "fuzzycsg_bad_types.json",
+      edited(good, "op_types", "union-intersection", "\"op_types\": \"union\","));
+  EXPECT_EQ(read_error(bad_types),
+            bad_types + ": settings.op_types: must be all or union-intersection");
+  const std::string number = write_temp("fuzzycsg_bad_init.json",
+                                        edited(good, "init", "balls", "\"init\": 2,"));
+  EXPECT_NE(read_error(number).find("settings.init"), std::string::npos);
+
+  // "ops" has always been written: a checkpoint without it is broken.
+  const std::string no_ops = write_temp("fuzzycsg_no_ops.json", edited(good, "ops", "product", ""));
+  EXPECT_EQ(read_error(no_ops), no_ops + ": settings.ops: missing");
+  // The others came later; without them a checkpoint means App. A's choices.
+  std::string older = edited(good, "op_init", "balanced", "");
+  older = edited(older, "op_types", "union-intersection", "");
+  older = edited(older, "init", "balls", "");
+  older = edited(older, "lr_schedule", "cosine", "");
+  const Checkpoint back = read_checkpoint(write_temp("fuzzycsg_older.json", older));
+  EXPECT_EQ(back.options.ops, OperatorMode::kProduct);
+  EXPECT_EQ(back.options.op_init, OperatorInit::kUniform);
+  EXPECT_EQ(back.options.op_types, OperatorTypes::kAll);
+  EXPECT_EQ(back.options.init, InitMode::kRandom);
+  EXPECT_EQ(back.options.lr_schedule, LrSchedule::kConstant);
+}
+
+}  // namespace
+}  // namespace fuzzycsg
