@@ -357,11 +357,10 @@ Verb register_fit(CLI::App& app) {
   model.push_back(add_choice(cmd, "--ops", o->ops, kOperatorModeNames,
                              "Operators: unified B_c, or fixed random booleans with product or "
                              "Goedel logic"));
-  model.push_back(
-      add_choice(cmd, "--op-init", o->op_init, kOperatorInitNames,
-                 "Unified operators' start: uniform (logits U[-r, r], as the paper: a "
-                 "difference half of the time) or balanced (union, intersection, "
-                 "difference a third each, as the fixed baselines)"));
+  model.push_back(add_choice(cmd, "--op-init", o->op_init, kOperatorInitNames,
+                             "Unified operators' start: uniform (logits U[-r, r], as the paper: a "
+                             "difference half of the time) or balanced (union, intersection, "
+                             "difference a third each, as the fixed baselines)"));
   model.push_back(add_choice(
       cmd, "--op-types", o->op_types, kOperatorTypesNames,
       "Types a unified operator can take: all four of B_c, or union and intersection only "
@@ -392,11 +391,10 @@ Verb register_fit(CLI::App& app) {
                       ->capture_default_str());
   model.push_back(cmd->add_option("--init-range", o->init_range, "Initial parameters ~ U[-r, r]")
                       ->capture_default_str());
-  model.push_back(add_choice(
-      cmd, "--init", o->init, kInitModeNames,
-      "Start: random (U[-r, r], as the paper), balls (a union of balls "
-      "covering the target) or surface (random quadrics through target "
-      "surface points)"));
+  model.push_back(add_choice(cmd, "--init", o->init, kInitModeNames,
+                             "Start: random (U[-r, r], as the paper), balls (a union of balls "
+                             "covering the target) or surface (random quadrics through target "
+                             "surface points)"));
   model.push_back(cmd->add_option("--init-slope", o->init_slope,
                                   "--init balls|surface: slope of the occupancy across each "
                                   "leaf's surface (0: 20 for balls, 1 for surface)")

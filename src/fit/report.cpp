@@ -19,49 +19,48 @@ using json = nlohmann::json;
 json options_to_json(const FitOptions& o) {
   json families = json::array();
   for (PrimitiveType f : o.families) families.push_back(std::string(primitive_info(f).name));
-  return json{
-      {"prims", o.prims},
-      {"families", families},
-      {"ops", std::string(option_name(kOperatorModeNames, o.ops))},
-      {"op_init", std::string(option_name(kOperatorInitNames, o.op_init))},
-      {"op_types", std::string(option_name(kOperatorTypesNames, o.op_types))},
-      {"init", std::string(option_name(kInitModeNames, o.init))},
-      {"init_range", o.init_range},
-      {"init_slope", o.init_slope},
-      {"temperature", o.temperature},
-      {"temperature_start", o.temperature_start},
-      {"temperature_ramp", o.temperature_ramp},
-      {"omega", o.omega},
-      {"seed", o.seed},
-      {"iters", o.iters},
-      {"batch", o.batch},
-      {"pool", o.pool},
-      {"resample_every", o.resample_every},
-      {"lr", o.lr},
-      {"beta1", o.beta1},
-      {"beta2", o.beta2},
-      {"adam_eps", o.adam_eps},
-      {"lr_schedule", std::string(option_name(kLrScheduleNames, o.lr_schedule))},
-      {"lr_end", o.lr_end},
-      {"reseed_every", o.reseed_every},
-      {"reseed_until", o.reseed_until},
-      {"type_search_every", o.type_search_every},
-      {"type_search_from", o.type_search_from},
-      {"type_search_until", o.type_search_until},
-      {"type_search_points", o.type_search_points},
-      {"type_search_switches", o.type_search_switches},
-      {"sampling",
-       {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
-        {"surface", o.sampling.surface},
-        {"near", o.sampling.near},
-        {"near_distance", o.sampling.near_distance}}},
-      {"time_limit", o.time_limit},
-      {"prune_threshold", o.prune_threshold},
-      {"prune_points", o.prune_points},
-      {"metric_points", o.metrics.points},
-      {"chamfer", o.metrics.chamfer},
-      {"chamfer_resolution", o.metrics.chamfer_resolution},
-      {"chamfer_samples", o.metrics.chamfer_samples}};
+  return json{{"prims", o.prims},
+              {"families", families},
+              {"ops", std::string(option_name(kOperatorModeNames, o.ops))},
+              {"op_init", std::string(option_name(kOperatorInitNames, o.op_init))},
+              {"op_types", std::string(option_name(kOperatorTypesNames, o.op_types))},
+              {"init", std::string(option_name(kInitModeNames, o.init))},
+              {"init_range", o.init_range},
+              {"init_slope", o.init_slope},
+              {"temperature", o.temperature},
+              {"temperature_start", o.temperature_start},
+              {"temperature_ramp", o.temperature_ramp},
+              {"omega", o.omega},
+              {"seed", o.seed},
+              {"iters", o.iters},
+              {"batch", o.batch},
+              {"pool", o.pool},
+              {"resample_every", o.resample_every},
+              {"lr", o.lr},
+              {"beta1", o.beta1},
+              {"beta2", o.beta2},
+              {"adam_eps", o.adam_eps},
+              {"lr_schedule", std::string(option_name(kLrScheduleNames, o.lr_schedule))},
+              {"lr_end", o.lr_end},
+              {"reseed_every", o.reseed_every},
+              {"reseed_until", o.reseed_until},
+              {"type_search_every", o.type_search_every},
+              {"type_search_from", o.type_search_from},
+              {"type_search_until", o.type_search_until},
+              {"type_search_points", o.type_search_points},
+              {"type_search_switches", o.type_search_switches},
+              {"sampling",
+               {{"scheme", std::string(sampling_scheme_name(o.sampling.scheme))},
+                {"surface", o.sampling.surface},
+                {"near", o.sampling.near},
+                {"near_distance", o.sampling.near_distance}}},
+              {"time_limit", o.time_limit},
+              {"prune_threshold", o.prune_threshold},
+              {"prune_points", o.prune_points},
+              {"metric_points", o.metrics.points},
+              {"chamfer", o.metrics.chamfer},
+              {"chamfer_resolution", o.metrics.chamfer_resolution},
+              {"chamfer_samples", o.metrics.chamfer_samples}};
 }
 
 // Reads fields with one-line errors naming the file and the JSON path.
@@ -176,8 +175,8 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.sampling.near = r.get<double>(s, w + ".sampling", "near");
   o.sampling.near_distance = r.get<double>(s, w + ".sampling", "near_distance");
   // Checkpoints written before there was a choice of scheme have none: App. A's.
-  o.sampling.scheme = r.choice(s, w + ".sampling", "scheme", kSamplingSchemeNames,
-                               SamplingScheme::kAppendixA);
+  o.sampling.scheme =
+      r.choice(s, w + ".sampling", "scheme", kSamplingSchemeNames, SamplingScheme::kAppendixA);
   o.time_limit = r.get<double>(j, w, "time_limit");
   o.prune_threshold = r.get<double>(j, w, "prune_threshold");
   o.prune_points = r.get<std::size_t>(j, w, "prune_points");
@@ -212,9 +211,7 @@ json counts_json(const Tree& tree) {
 
 }  // namespace
 
-std::string_view operator_mode_name(OperatorMode m) {
-  return option_name(kOperatorModeNames, m);
-}
+std::string_view operator_mode_name(OperatorMode m) { return option_name(kOperatorModeNames, m); }
 
 std::string fit_options_json(const FitOptions& options) { return options_to_json(options).dump(2); }
 

@@ -60,8 +60,8 @@ TEST(OptionNames, ListsAndLookups) {
 TEST(OptionNames, EveryNameRoundTripsThroughACheckpoint) {
   int checked = 0;
   auto round_trip = [&](const FitOptions& o) {
-    const std::string path = write_temp("fuzzycsg_option_names.json",
-                                        checkpoint_to_string(small_checkpoint(o)));
+    const std::string path =
+        write_temp("fuzzycsg_option_names.json", checkpoint_to_string(small_checkpoint(o)));
     const Checkpoint back = read_checkpoint(path);
     EXPECT_EQ(back.options.ops, o.ops);
     EXPECT_EQ(back.options.op_init, o.op_init);
@@ -107,16 +107,16 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   o.lr_schedule = LrSchedule::kCosine;
   const std::string good = checkpoint_to_string(small_checkpoint(o));
 
-  const std::string bad_ops = write_temp("fuzzycsg_bad_ops.json",
-                                         edited(good, "ops", "product", "\"ops\": \"fuzzy\","));
+  const std::string bad_ops =
+      write_temp("fuzzycsg_bad_ops.json", edited(good, "ops", "product", "\"ops\": \"fuzzy\","));
   EXPECT_EQ(read_error(bad_ops), bad_ops + ": settings.ops: must be unified, product or godel");
-  const std::string bad_types = write_temp(
-      "fuzzycsg_bad_types.json",
-      edited(good, "op_types", "union-intersection", "\"op_types\": \"union\","));
+  const std::string bad_types =
+      write_temp("fuzzycsg_bad_types.json",
+                 edited(good, "op_types", "union-intersection", "\"op_types\": \"union\","));
   EXPECT_EQ(read_error(bad_types),
             bad_types + ": settings.op_types: must be all or union-intersection");
-  const std::string number = write_temp("fuzzycsg_bad_init.json",
-                                        edited(good, "init", "balls", "\"init\": 2,"));
+  const std::string number =
+      write_temp("fuzzycsg_bad_init.json", edited(good, "init", "balls", "\"init\": 2,"));
   EXPECT_NE(read_error(number).find("settings.init"), std::string::npos);
 
   // "ops" has always been written: a checkpoint without it is broken.
