@@ -68,6 +68,11 @@ MODES = {
     "unified-ui": ["--ops", "unified", "--op-types", "union-intersection"],
     "ts-ui": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-ramp", "0",
               "--type-search-every", "500"],
+    # The same from a temperature of 1, where a two-type operator starts as a blend of union
+    # and intersection (their mean is the average (x + y) / 2) and hardens over the ramp.
+    "ui-t1": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-start", "1"],
+    "ui-t1-r5": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-start", "1",
+                 "--temperature-ramp", "0.5"],
     # Balls instead of quadrics: a leaf cannot become its own complement.
     "unified-sphere": ["--ops", "unified", "--family", "sphere"],
     "product-sphere": ["--ops", "product", "--family", "sphere"],
