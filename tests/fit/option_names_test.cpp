@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "fit/checkpoint_support.hpp"
 #include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/fit/option_names.hpp"
@@ -17,24 +18,10 @@ namespace {
 using testing::write_temp;
 
 Checkpoint small_checkpoint(const FitOptions& options) {
-  Checkpoint ck;
-  ck.target = "part.obj";
-  ck.dim = 3;
-  ck.options = options;
-  ck.state.params = {1, 2};
-  ck.state.m = {0, 0};
-  ck.state.v = {0, 0};
-  return ck;
+  return testing::small_checkpoint(options, 3, "part.obj");
 }
 
-std::string read_error(const std::string& path) {
-  try {
-    (void)read_checkpoint(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string read_error(const std::string& path) { return testing::checkpoint_read_error(path); }
 
 // The checkpoint's text with `"key": "value"` replaced by `replacement` (empty: removed).
 std::string edited(const std::string& text, const std::string& key, const std::string& value,
@@ -70,31 +57,19 @@ TEST(OptionNames, EveryNameRoundTripsThroughACheckpoint) {
     EXPECT_EQ(back.options.lr_schedule, o.lr_schedule);
     ++checked;
   };
-  for (const auto& n : kOperatorModeNames) {
-    FitOptions o;
-    o.ops = n.value;
-    round_trip(o);
-  }
-  for (const auto& n : kOperatorInitNames) {
-    FitOptions o;
-    o.op_init = n.value;
-    round_trip(o);
-  }
-  for (const auto& n : kOperatorTypesNames) {
-    FitOptions o;
-    o.op_types = n.value;
-    round_trip(o);
-  }
-  for (const auto& n : kInitModeNames) {
-    FitOptions o;
-    o.init = n.value;
-    round_trip(o);
-  }
-  for (const auto& n : kLrScheduleNames) {
-    FitOptions o;
-    o.lr_schedule = n.value;
-    round_trip(o);
-  }
+  // Every value of one table, set in otherwise default options.
+  auto each = [&](const auto& names, auto FitOptions::*field) {
+    for (const auto& n : names) {
+      FitOptions o;
+      o.*field = n.value;
+      round_trip(o);
+    }
+  };
+  each(kOperatorModeNames, &FitOptions::ops);
+  each(kOperatorInitNames, &FitOptions::op_init);
+  each(kOperatorTypesNames, &FitOptions::op_types);
+  each(kInitModeNames, &FitOptions::init);
+  each(kLrScheduleNames, &FitOptions::lr_schedule);
   EXPECT_EQ(checked, 12);
 }
 

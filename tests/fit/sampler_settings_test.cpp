@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "fit/checkpoint_support.hpp"
 #include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/fit/report.hpp"
@@ -14,24 +15,12 @@ namespace {
 using testing::write_temp;
 
 Checkpoint small_checkpoint(SamplingScheme scheme) {
-  Checkpoint ck;
-  ck.target = "logo.png";
-  ck.dim = 2;
-  ck.options.sampling.scheme = scheme;
-  ck.state.params = {1, 2};
-  ck.state.m = {0, 0};
-  ck.state.v = {0, 0};
-  return ck;
+  FitOptions options;
+  options.sampling.scheme = scheme;
+  return testing::small_checkpoint(options, 2, "logo.png");
 }
 
-std::string read_error(const std::string& path) {
-  try {
-    (void)read_checkpoint(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string read_error(const std::string& path) { return testing::checkpoint_read_error(path); }
 
 TEST(SamplerSettings, RoundTripThroughACheckpoint) {
   for (SamplingScheme scheme : {SamplingScheme::kAppendixA, SamplingScheme::kRelease}) {
