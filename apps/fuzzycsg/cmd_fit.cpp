@@ -114,7 +114,7 @@ CLI::Option* add_choice(CLI::App* cmd, const std::string& flag, E& target,
   return cmd
       ->add_option_function<std::string>(
           flag,
-          [&target, &choices](const std::string& v) {
+          [&target, choices](const std::string& v) {
             if (const std::optional<E> value = option_value(choices, v)) target = *value;
           },
           help)
