@@ -7,10 +7,11 @@
 
 namespace fuzzycsg::bench {
 
-// The upper median (the middle element of an odd count) of v; v must not be empty.
+// The median of v (the mean of the two middle elements of an even count); v must not be empty.
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // "32,256" -> {32, 256}.

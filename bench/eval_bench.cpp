@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "bench/leaf_point_cost.hpp"
 #include "bench/peak.hpp"
 #include "fuzzycsg/core/builders.hpp"
@@ -42,6 +43,8 @@
 #include "fuzzycsg/eval/evaluator.hpp"
 
 namespace {
+
+using fuzzycsg::bench::median;
 
 using Clock = std::chrono::steady_clock;
 namespace fb = fuzzycsg::bench;
@@ -73,12 +76,6 @@ fuzzycsg::Tree make_tree(int leaves, std::uint64_t seed) {
   options.ops = fuzzycsg::OperatorMode::kUnified;
   options.seed = seed;
   return fuzzycsg::make_full_binary_tree(options);
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 struct Timing {

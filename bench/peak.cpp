@@ -11,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
+
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "bench/peak.cpp"
 // clang-format off
@@ -127,12 +129,6 @@ double run_on_threads(int threads, const Work& work) {
   for (auto& th : pool) th.join();
   const auto end = *std::max_element(ends.begin(), ends.end());
   return std::chrono::duration<double>(end - start).count();
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 struct Rates {

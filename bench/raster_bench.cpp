@@ -19,20 +19,14 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
 
 using namespace fuzzycsg::diffcsg;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
+using fuzzycsg::bench::median;
 
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;

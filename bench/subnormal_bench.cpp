@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/fit/init.hpp"
@@ -26,10 +27,7 @@ using namespace fuzzycsg;
 
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using fuzzycsg::bench::median;
 
 Tree make_tree(int leaves, bool balls, std::uint64_t seed) {
   FullTreeOptions o;

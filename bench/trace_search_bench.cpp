@@ -15,19 +15,13 @@
 #include <thread>
 #include <vector>
 
+#include "bench/bench_lists.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/search.hpp"
 
 using namespace fuzzycsg::trace;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
+using fuzzycsg::bench::median;
 
 // --glyphs: the search on the paper's letters P, E, b, i (DejaVu Sans Bold), seeds 1 and 2,
 // one thread each: score, primitives, effort and time, a row per run.

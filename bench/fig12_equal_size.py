@@ -1,0 +1,171 @@
+#!/usr/bin/python3
+"""Fig. 12 at an equal number of primitives: fit the same mesh, tree size and seed with unified
+operators and with fixed product booleans, prune both as App. A says (threshold 1e-3), then prune
+the tree that kept more primitives harder, raising its threshold until it keeps no more than the
+other, and compare the errors (MSE on 2 million uniform points) of the two trees of equal size.
+Prints a Markdown table, one row per run, and with --json writes every row with both commands.
+
+  /usr/bin/python3 bench/fig12_equal_size.py --meshes cgal_fandisk.off --prims 64 --seeds 0 \\
+      --unified-modes unified,unified-ui
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fig12_study import MODES, ROOT  # noqa: E402
+
+COUNTS = re.compile(r"prune: (\d+)\+(\d+) -> (\d+)\+(\d+) nodes")
+MSE = re.compile(r"prune: after\s+MSE ([0-9.eE+-]+)\s+IoU ([0-9.eE+-]+)")
+
+
+def fit(args, target, prims, mode, seed, out):
+    cmd = [args.bin, "fit", target, "-o", out, "--prims", str(prims), "--iters", str(args.iters),
+           "--batch", str(args.batch), "--seed", str(seed), "--threads", str(args.threads),
+           "--checkpoint-every", "0", "-q", *MODES[mode]]
+    subprocess.run(cmd, check=True)
+    with open(os.path.join(out, "report.json")) as f:
+        report = json.load(f)
+    return report, " ".join(["fuzzycsg", *cmd[1:]]).replace(out, "OUT").replace(" -q", "")
+
+
+def prune(args, tree, target, threshold, out, metrics):
+    cmd = [args.bin, "prune", tree, "--target", target, "-o", out, "--threshold",
+           f"{threshold:.6g}", "--threads", str(args.threads)]
+    if not metrics:
+        cmd.append("--no-metrics")
+    text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    kept = int(COUNTS.search(text).group(3))
+    m = MSE.search(text) if metrics else None
+    return kept, (float(m.group(1)), float(m.group(2))) if m else None
+
+
+def smallest_threshold(args, tree, target, budget, out):
+    # Bisection on log(threshold) for the smallest threshold that keeps at most `budget`
+    # primitives; the count falls with the threshold (a larger one removes a superset of nodes
+    # in the same post-order, up to ties), checked at the end.
+    lo, hi = math.log(1e-3), math.log(1.0)
+    if prune(args, tree, target, math.exp(lo), out, False)[0] <= budget:
+        return math.exp(lo)
+    for _ in range(args.bisections):
+        mid = 0.5 * (lo + hi)
+        if prune(args, tree, target, math.exp(mid), out, False)[0] <= budget:
+            hi = mid
+        else:
+            lo = mid
+    return math.exp(hi)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--bin", default=os.path.join(ROOT, "build/release/apps/fuzzycsg/fuzzycsg"))
+    ap.add_argument("--data", default=os.path.join(ROOT, "../shared/data/meshes/cad"))
+    ap.add_argument("--meshes", default="cgal_fandisk.off")
+    ap.add_argument("--prims", default="32,64,256")
+    ap.add_argument("--seeds", default="0,1,2")
+    ap.add_argument("--unified-modes", default="unified",
+                    help="comma list of modes of fig12_study.py, each against the same fixed fit")
+    ap.add_argument("--fixed-mode", default="product", help="a mode of fig12_study.py")
+    ap.add_argument("--iters", type=int, default=20000)
+    ap.add_argument("--batch", type=int, default=1024)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--bisections", type=int, default=8)
+    ap.add_argument("--json", help="also write every row here")
+    args = ap.parse_args()
+
+    rows = []
+    data = os.path.relpath(os.path.abspath(args.data), ROOT)
+    with tempfile.TemporaryDirectory() as tmp:
+        for mesh in args.meshes.split(","):
+            target = os.path.join(args.data, mesh)
+            for prims in [int(p) for p in args.prims.split(",")]:
+                for seed in [int(s) for s in args.seeds.split(",")]:
+                    base = os.path.join(tmp, f"{mesh}-{prims}-{seed}")
+                    fixed_tree = os.path.join(base + "-f", "tree.json")
+                    _, fcmd = fit(args, target, prims, args.fixed_mode, seed, base + "-f")
+                    # Every tree pruned and measured by `fuzzycsg prune`: the same points judge
+                    # redundancy and measure the error.
+                    fkept0, (fmse0, _) = prune(args, fixed_tree, target, 1e-3,
+                                               base + "-f-pruned.json", True)
+                    for mode in args.unified_modes.split(","):
+                        ur, ucmd = fit(args, target, prims, mode, seed, base + "-" + mode)
+                        unified_tree = os.path.join(base + "-" + mode, "tree.json")
+                        ukept0, (umse0, _) = prune(args, unified_tree, target, 1e-3,
+                                                   base + "-u-pruned.json", True)
+                        # The tree that keeps more primitives is pruned harder, down to at most
+                        # the other's count; the other stays at App. A's threshold.
+                        ut, ft = 1e-3, 1e-3
+                        out = base + "-equal.json"
+                        if fkept0 > ukept0:
+                            ft = smallest_threshold(args, fixed_tree, target, ukept0, out)
+                        elif ukept0 > fkept0:
+                            ut = smallest_threshold(args, unified_tree, target, fkept0, out)
+                        ukept, (umse, _) = (ukept0, (umse0, None)) if ut == 1e-3 else prune(
+                            args, unified_tree, target, ut, out, True)
+                        fkept, (fmse, _) = (fkept0, (fmse0, None)) if ft == 1e-3 else prune(
+                            args, fixed_tree, target, ft, out, True)
+                        rows.append({
+                            "mesh": mesh, "prims": prims, "seed": seed,
+                            "unified_mode": mode, "fixed_mode": args.fixed_mode,
+                            "unified_kept_default": ukept0, "unified_mse_default": umse0,
+                            "unified_changed": ur["operators"]["changed_type"],
+                            "fixed_kept_default": fkept0, "fixed_mse_default": fmse0,
+                            "unified_threshold": ut, "unified_kept": ukept, "unified_mse": umse,
+                            "fixed_threshold": ft, "fixed_kept": fkept, "fixed_mse": fmse,
+                            "unified_command": ucmd.replace(target, os.path.join(data, mesh)),
+                            "fixed_command": fcmd.replace(target, os.path.join(data, mesh)),
+                        })
+                        print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+
+    print(f"| mesh | P | seed | unified mode | at 1e-3: unified kept, MSE | {args.fixed_mode} "
+          f"kept, MSE | at equal size: threshold, kept, MSE of the one pruned harder | MSE "
+          f"ratio at equal size |")
+    print("|---|---:|---:|---|---:|---:|---:|---:|")
+    for r in rows:
+        harder = ("unified", "unified") if r["unified_threshold"] > 1e-3 else ("fixed", "fixed")
+        cut = "-" if max(r["unified_threshold"], r["fixed_threshold"]) == 1e-3 else (
+            f'{harder[0]} {r[harder[0] + "_threshold"]:.3g}, {r[harder[0] + "_kept"]}, '
+            f'{r[harder[0] + "_mse"]:.4f}')
+        print(f'| {r["mesh"]} | {r["prims"]} | {r["seed"]} | {r["unified_mode"]} | '
+              f'{r["unified_kept_default"]}, {r["unified_mse_default"]:.4f} | '
+              f'{r["fixed_kept_default"]}, {r["fixed_mse_default"]:.4f} | {cut} | '
+              f'{r["unified_mse"] / r["fixed_mse"]:.3f} |')
+    # Pair by pair (mesh and size): medians over the seeds, then the geometric mean over the
+    # pairs of the ratio of medians.
+    print()
+    print(f"| unified mode | median MSE below {args.fixed_mode}'s of the same size | geometric "
+          f"mean of median MSE / {args.fixed_mode}'s of the same size | the same with both "
+          f"pruned at 1e-3 |")
+    print("|---|---:|---:|---:|")
+    for mode in args.unified_modes.split(","):
+        pairs = {}
+        for r in rows:
+            if r["unified_mode"] == mode:
+                pairs.setdefault((r["mesh"], r["prims"]), []).append(r)
+        below, logs, logs0 = 0, [], []
+        for sel in pairs.values():
+            u = statistics.median(r["unified_mse"] for r in sel)
+            f = statistics.median(r["fixed_mse"] for r in sel)
+            u0 = statistics.median(r["unified_mse_default"] for r in sel)
+            f0 = statistics.median(r["fixed_mse_default"] for r in sel)
+            below += u < f
+            logs.append(math.log(u / f))
+            logs0.append(math.log(u0 / f0))
+        if logs:
+            print(f"| {mode} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} | "
+                  f"{math.exp(sum(logs0) / len(logs0)):.3f} |")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(rows, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
