@@ -13,7 +13,7 @@ Modes: "unified" (our default: the temperature rises from 10 to 1000 over the fi
 "unified-t1000" (t = 1000 from the first step, as App. A reads), "product", "godel"; the
 variants of docs/results.md: "unified-balanced" and "unified-t1000-balanced" (--op-init balanced),
 "lr3*" (lr 3e-3, re-seeding, starts from the target), "lr3-product*" (the same with product
-booleans), "ts*" (the search over operator types), "*-sphere" and "*-circle" (balls and discs
+booleans), "ts*" (the search over operator types), "*-log" (Adam steps log sharpness), "*-sphere" and "*-circle" (balls and discs
 instead of quadrics and conics), "mix" (mixed primitive families). --data and --meshes take
 pictures as well (docs/results.md, "Fig. 12 in 2D").
 """
@@ -73,6 +73,13 @@ MODES = {
     "ui-t1": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-start", "1"],
     "ui-t1-r5": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-start", "1",
                  "--temperature-ramp", "0.5"],
+    # Adam steps the logarithm of each leaf's sharpness (--sharpness-param log), the same
+    # change for the unified operators and the fixed baselines.
+    "unified-log": ["--ops", "unified", "--sharpness-param", "log"],
+    "unified-ui-log": ["--ops", "unified", "--op-types", "union-intersection",
+                       "--sharpness-param", "log"],
+    "product-log": ["--ops", "product", "--sharpness-param", "log"],
+    "godel-log": ["--ops", "godel", "--sharpness-param", "log"],
     # Balls instead of quadrics: a leaf cannot become its own complement.
     "unified-sphere": ["--ops", "unified", "--family", "sphere"],
     "product-sphere": ["--ops", "product", "--family", "sphere"],

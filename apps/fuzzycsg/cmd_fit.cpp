@@ -405,6 +405,10 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--lr-end", o->lr_end,
                                   "Cosine schedule: final learning rate as a fraction of --lr")
                       ->capture_default_str());
+  model.push_back(add_choice(cmd, "--sharpness-param", o->sharpness_param, kSharpnessParamNames,
+                             "What Adam steps for each leaf's sharpness s: s (linear, as the "
+                             "paper and its release) or log s (log: the occupancy sharpens "
+                             "much faster)"));
   model.push_back(cmd->add_option("--reseed-every", o->reseed_every,
                                   "Steps between re-seedings of dead primitives (0: none)")
                       ->capture_default_str());

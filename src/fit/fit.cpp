@@ -81,6 +81,20 @@ std::vector<int> operator_types(const Tree& tree, std::span<const double> params
   return out;
 }
 
+// For SharpnessParam::kLog: 1 at the sharpness of every free sigmoid step of a leaf, which
+// Adam steps as log s; 0 elsewhere. Indexed like the parameter table.
+std::vector<char> log_stepped(const Tree& tree, SharpnessParam sharpness) {
+  std::vector<char> out(tree.params.size(), 0);
+  if (sharpness != SharpnessParam::kLog) return out;
+  for (const Node& n : tree.nodes) {
+    if (n.kind == NodeKind::kPrimitive && n.step.kind == StepKind::kSigmoid && n.step.param &&
+        !tree.params[*n.step.param].fixed) {
+      out[n.step.param->index] = 1;
+    }
+  }
+  return out;
+}
+
 // Keeps a parameter inside its field's range after an Adam step (projected gradient). Open
 // bounds are kept a small relative distance inside.
 double project(double v, const Range& r) {
@@ -284,6 +298,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     ranges[i] = model.params.at(i).range;
   }
   const std::vector<std::size_t> temps = temperature_indices(model);
+  const std::vector<char> in_log = log_stepped(model, o.sharpness_param);
   const std::size_t pool_size = o.pool ? o.pool : static_cast<std::size_t>(o.batch);
   const std::size_t batch = static_cast<std::size_t>(o.batch);
   const long curve_every = std::max(1L, o.iters / 1000);
@@ -440,10 +455,13 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
         prev.v[i] = st.v[i];
         continue;
       }
-      prev.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * grad[i];
-      prev.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * grad[i] * grad[i];
+      // For a parameter stepped as its logarithm u = log s: dL/du = s dL/ds, s' = s exp(-du).
+      const double g = in_log[i] ? grad[i] * st.params[i] : grad[i];
+      prev.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * g;
+      prev.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * g * g;
       const double update = lr * (prev.m[i] / c1) / (std::sqrt(prev.v[i] / c2) + o.adam_eps);
-      prev.params[i] = project(st.params[i] - update, ranges[i]);
+      const double next = in_log[i] ? st.params[i] * std::exp(-update) : st.params[i] - update;
+      prev.params[i] = project(next, ranges[i]);
     }
     std::swap(st.params, prev.params);
     std::swap(st.m, prev.m);

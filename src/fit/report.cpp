@@ -18,6 +18,7 @@ using json = nlohmann::json;
 
 json options_to_json(const FitOptions& o) {
   json families = json::array();
+  const std::string sharpness(option_name(kSharpnessParamNames, o.sharpness_param));
   for (PrimitiveType f : o.families) families.push_back(std::string(primitive_info(f).name));
   return json{{"prims", o.prims},
               {"families", families},
@@ -42,6 +43,7 @@ json options_to_json(const FitOptions& o) {
               {"adam_eps", o.adam_eps},
               {"lr_schedule", std::string(option_name(kLrScheduleNames, o.lr_schedule))},
               {"lr_end", o.lr_end},
+              {"sharpness_param", sharpness},
               {"reseed_every", o.reseed_every},
               {"reseed_until", o.reseed_until},
               {"type_search_every", o.type_search_every},
@@ -163,6 +165,9 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.adam_eps = r.get<double>(j, w, "adam_eps");
   o.lr_schedule = r.choice(j, w, "lr_schedule", kLrScheduleNames, LrSchedule::kConstant);
   o.lr_end = r.get_or<double>(j, w, "lr_end", o.lr_end);
+  // Checkpoints written before there was a choice stepped the sharpness itself.
+  o.sharpness_param =
+      r.choice(j, w, "sharpness_param", kSharpnessParamNames, SharpnessParam::kLinear);
   o.reseed_every = r.get_or<long>(j, w, "reseed_every", 0L);
   o.reseed_until = r.get_or<double>(j, w, "reseed_until", o.reseed_until);
   o.type_search_every = r.get_or<long>(j, w, "type_search_every", 0L);

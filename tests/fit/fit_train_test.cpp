@@ -111,6 +111,60 @@ TEST(Fit, LossFallsAndOperatorsAreCounted) {
   EXPECT_GT(moved, 40);
 }
 
+// The sharpness of each leaf's sigmoid step, indexed by leaf.
+std::vector<double> sharpnesses(const Tree& t) {
+  std::vector<double> out;
+  for (const Node& n : t.nodes) {
+    if (n.kind == NodeKind::kPrimitive) out.push_back(t.params[*n.step.param].value);
+  }
+  return out;
+}
+
+TEST(Fit, LogSharpnessStepsTheLogarithm) {
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
+  FitOptions o = small_options();
+  o.iters = 1;
+  const Tree initial = make_initial_model(o, 3);
+  const FitResult linear = fit(target, o);
+  o.sharpness_param = SharpnessParam::kLog;
+  const FitResult log = fit(target, o);
+  // Adam's first step moves every coordinate by lr (times g / (|g| + eps)): s by lr when
+  // stepped directly, log s by lr when stepped as its logarithm.
+  const std::vector<double> s0 = sharpnesses(initial), s1 = sharpnesses(linear.trained),
+                            s2 = sharpnesses(log.trained);
+  ASSERT_EQ(s0.size(), 4u);
+  for (std::size_t i = 0; i < s0.size(); ++i) {
+    EXPECT_NEAR(std::abs(s1[i] - s0[i]), o.lr, 1e-3 * o.lr) << i;
+    EXPECT_NEAR(std::abs(std::log(s2[i] / s0[i])), o.lr, 1e-3 * o.lr) << i;
+    EXPECT_EQ(s1[i] > s0[i], s2[i] > s0[i]) << i;  // the same direction
+  }
+  // Nothing else differs.
+  int same = 0;
+  for (std::size_t i = 0; i < initial.params.size(); ++i) {
+    if (initial.params.at(i).name.ends_with(".sharpness")) continue;
+    EXPECT_EQ(linear.trained.params.at(i).value, log.trained.params.at(i).value)
+        << initial.params.at(i).name;
+    ++same;
+  }
+  EXPECT_GT(same, 40);
+}
+
+TEST(Fit, LogSharpnessSharpensPastWhatLinearStepsCanReach) {
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
+  FitOptions o = small_options();
+  o.iters = 600;
+  o.sampling.surface = 0.0;  // as LossFallsAndOperatorsAreCounted: the loss measures the fit
+  const double start = std::ranges::max(sharpnesses(make_initial_model(o, 3)));
+  const FitResult linear = fit(target, o);
+  o.sharpness_param = SharpnessParam::kLog;
+  const FitResult log = fit(target, o);
+  // Stepped directly, no sharpness can pass start + lr * iters; as log s, some leaf does.
+  const double bound = start + o.lr * static_cast<double>(o.iters);
+  EXPECT_LE(std::ranges::max(sharpnesses(linear.trained)), bound);
+  EXPECT_GT(std::ranges::max(sharpnesses(log.trained)), 2 * bound);
+  EXPECT_LT(log.state.curve.back().loss, linear.state.curve.back().loss);
+}
+
 TEST(Fit, SameSeedSameResultAnyThreads) {
   const testing::BallTarget target(2, {0.1, 0}, 0.6);
   FitOptions o = small_options();

@@ -55,6 +55,7 @@ TEST(OptionNames, EveryNameRoundTripsThroughACheckpoint) {
     EXPECT_EQ(back.options.op_types, o.op_types);
     EXPECT_EQ(back.options.init, o.init);
     EXPECT_EQ(back.options.lr_schedule, o.lr_schedule);
+    EXPECT_EQ(back.options.sharpness_param, o.sharpness_param);
     ++checked;
   };
   // Every value of one table, set in otherwise default options.
@@ -70,7 +71,8 @@ TEST(OptionNames, EveryNameRoundTripsThroughACheckpoint) {
   each(kOperatorTypesNames, &FitOptions::op_types);
   each(kInitModeNames, &FitOptions::init);
   each(kLrScheduleNames, &FitOptions::lr_schedule);
-  EXPECT_EQ(checked, 12);
+  each(kSharpnessParamNames, &FitOptions::sharpness_param);
+  EXPECT_EQ(checked, 14);
 }
 
 TEST(OptionNames, BadNamesAndOlderCheckpoints) {
@@ -80,6 +82,7 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   o.op_types = OperatorTypes::kUnionIntersection;
   o.init = InitMode::kBalls;
   o.lr_schedule = LrSchedule::kCosine;
+  o.sharpness_param = SharpnessParam::kLog;
   const std::string good = checkpoint_to_string(small_checkpoint(o));
 
   const std::string bad_ops =
@@ -102,12 +105,14 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   older = edited(older, "op_types", "union-intersection", "");
   older = edited(older, "init", "balls", "");
   older = edited(older, "lr_schedule", "cosine", "");
+  older = edited(older, "sharpness_param", "log", "");
   const Checkpoint back = read_checkpoint(write_temp("fuzzycsg_older.json", older));
   EXPECT_EQ(back.options.ops, OperatorMode::kProduct);
   EXPECT_EQ(back.options.op_init, OperatorInit::kUniform);
   EXPECT_EQ(back.options.op_types, OperatorTypes::kAll);
   EXPECT_EQ(back.options.init, InitMode::kRandom);
   EXPECT_EQ(back.options.lr_schedule, LrSchedule::kConstant);
+  EXPECT_EQ(back.options.sharpness_param, SharpnessParam::kLinear);
 }
 
 }  // namespace

@@ -32,6 +32,13 @@ namespace fuzzycsg {
 enum class InitMode { kRandom, kBalls, kSurface };
 // The learning rate over the steps: constant (App. A), or a cosine from lr down to lr * lr_end.
 enum class LrSchedule { kConstant, kCosine };
+// What Adam steps for the sharpness s of a leaf's sigmoid step: s itself (App. A and the
+// authors' release), or log s. Adam moves a parameter by about lr a step, so a sharpness
+// stepped directly grows by at most lr a step (1 + 20 after 20,000 steps at lr 1e-3) and the
+// occupancy stays soft across the surface; stepped as log s it grows by up to a factor
+// exp(lr) a step, as fast at 50 as at 5. The tree keeps s; only the optimiser's coordinate
+// (and its Adam moments) differ.
+enum class SharpnessParam { kLinear, kLog };
 
 struct FitOptions {
   // --- model
@@ -59,6 +66,7 @@ struct FitOptions {
   double lr = 1e-3, beta1 = 0.9, beta2 = 0.999, adam_eps = 1e-8;
   LrSchedule lr_schedule = LrSchedule::kConstant;
   double lr_end = 0.05;  // kCosine: the final learning rate as a fraction of lr
+  SharpnessParam sharpness_param = SharpnessParam::kLinear;
   // Re-seeding of dead leaves (fuzzycsg/fit/init.hpp) every `reseed_every` steps (0: never)
   // during the first `reseed_until` fraction of the steps.
   long reseed_every = 0;

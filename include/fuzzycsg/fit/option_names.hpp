@@ -51,6 +51,11 @@ inline constexpr OptionNames<LrSchedule, 2> kLrScheduleNames{{
     {"cosine", LrSchedule::kCosine},
 }};
 
+inline constexpr OptionNames<SharpnessParam, 2> kSharpnessParamNames{{
+    {"linear", SharpnessParam::kLinear},
+    {"log", SharpnessParam::kLog},
+}};
+
 // Spelled as target.hpp's sampling_scheme_name().
 inline const OptionNames<SamplingScheme, 2> kSamplingSchemeNames{{
     {sampling_scheme_name(SamplingScheme::kAppendixA), SamplingScheme::kAppendixA},
