@@ -63,6 +63,60 @@ def smallest_threshold(args, tree, target, budget, out):
     return math.exp(hi)
 
 
+def print_tables(rows, fixed_mode, modes):
+    print(f"| mesh | P | seed | unified mode | at 1e-3: unified kept, MSE | {fixed_mode} "
+          f"kept, MSE | at equal size: threshold, kept, MSE of the one pruned harder | MSE "
+          f"ratio at equal size |")
+    print("|---|---:|---:|---|---:|---:|---:|---:|")
+    for r in rows:
+        harder = ("unified", "unified") if r["unified_threshold"] > 1e-3 else ("fixed", "fixed")
+        cut = "-" if max(r["unified_threshold"], r["fixed_threshold"]) == 1e-3 else (
+            f'{harder[0]} {r[harder[0] + "_threshold"]:.3g}, {r[harder[0] + "_kept"]}, '
+            f'{r[harder[0] + "_mse"]:.4f}')
+        print(f'| {r["mesh"]} | {r["prims"]} | {r["seed"]} | {r["unified_mode"]} | '
+              f'{r["unified_kept_default"]}, {r["unified_mse_default"]:.4f} | '
+              f'{r["fixed_kept_default"]}, {r["fixed_mse_default"]:.4f} | {cut} | '
+              f'{r["unified_mse"] / r["fixed_mse"]:.3f} |')
+    # Pair by pair (mesh and size): medians over the seeds.
+    print()
+    print(f"| mesh | P | unified mode | seeds | median primitives: unified / {fixed_mode} | "
+          f"median MSE at equal size: unified / {fixed_mode} | ratio |")
+    print("|---|---:|---|---:|---:|---:|---:|")
+    pairs = {}
+    for r in rows:
+        pairs.setdefault((r["mesh"], r["prims"], r["unified_mode"]), []).append(r)
+    for (mesh, prims, mode), sel in pairs.items():
+        u = statistics.median(r["unified_mse"] for r in sel)
+        f = statistics.median(r["fixed_mse"] for r in sel)
+        print(f'| {mesh} | {prims} | {mode} | {len(sel)} | '
+              f'{statistics.median(r["unified_kept"] for r in sel):g} / '
+              f'{statistics.median(r["fixed_kept"] for r in sel):g} | {u:.4f} / {f:.4f} | '
+              f'{u / f:.2f} |')
+    # Then the geometric mean over the pairs of the ratio of medians.
+    print()
+    print(f"| unified mode | median MSE below {fixed_mode}'s of the same size | geometric "
+          f"mean of median MSE / {fixed_mode}'s of the same size | the same with both "
+          f"pruned at 1e-3 |")
+    print("|---|---:|---:|---:|")
+    for mode in modes:
+        pairs = {}
+        for r in rows:
+            if r["unified_mode"] == mode:
+                pairs.setdefault((r["mesh"], r["prims"]), []).append(r)
+        below, logs, logs0 = 0, [], []
+        for sel in pairs.values():
+            u = statistics.median(r["unified_mse"] for r in sel)
+            f = statistics.median(r["fixed_mse"] for r in sel)
+            u0 = statistics.median(r["unified_mse_default"] for r in sel)
+            f0 = statistics.median(r["fixed_mse_default"] for r in sel)
+            below += u < f
+            logs.append(math.log(u / f))
+            logs0.append(math.log(u0 / f0))
+        if logs:
+            print(f"| {mode} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} | "
+                  f"{math.exp(sum(logs0) / len(logs0)):.3f} |")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", default=os.path.join(ROOT, "build/release/apps/fuzzycsg/fuzzycsg"))
@@ -78,7 +132,16 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--bisections", type=int, default=8)
     ap.add_argument("--json", help="also write every row here")
+    ap.add_argument("--summary", nargs="+", metavar="JSON",
+                    help="fit nothing: print the tables of rows that --json wrote")
     args = ap.parse_args()
+
+    if args.summary:
+        rows = [r for f in args.summary for r in json.load(open(f))]
+        for fixed in dict.fromkeys(r["fixed_mode"] for r in rows):
+            sel = [r for r in rows if r["fixed_mode"] == fixed]
+            print_tables(sel, fixed, list(dict.fromkeys(r["unified_mode"] for r in sel)))
+        return 0
 
     rows = []
     data = os.path.relpath(os.path.abspath(args.data), ROOT)
@@ -124,43 +187,7 @@ def main():
                         })
                         print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
 
-    print(f"| mesh | P | seed | unified mode | at 1e-3: unified kept, MSE | {args.fixed_mode} "
-          f"kept, MSE | at equal size: threshold, kept, MSE of the one pruned harder | MSE "
-          f"ratio at equal size |")
-    print("|---|---:|---:|---|---:|---:|---:|---:|")
-    for r in rows:
-        harder = ("unified", "unified") if r["unified_threshold"] > 1e-3 else ("fixed", "fixed")
-        cut = "-" if max(r["unified_threshold"], r["fixed_threshold"]) == 1e-3 else (
-            f'{harder[0]} {r[harder[0] + "_threshold"]:.3g}, {r[harder[0] + "_kept"]}, '
-            f'{r[harder[0] + "_mse"]:.4f}')
-        print(f'| {r["mesh"]} | {r["prims"]} | {r["seed"]} | {r["unified_mode"]} | '
-              f'{r["unified_kept_default"]}, {r["unified_mse_default"]:.4f} | '
-              f'{r["fixed_kept_default"]}, {r["fixed_mse_default"]:.4f} | {cut} | '
-              f'{r["unified_mse"] / r["fixed_mse"]:.3f} |')
-    # Pair by pair (mesh and size): medians over the seeds, then the geometric mean over the
-    # pairs of the ratio of medians.
-    print()
-    print(f"| unified mode | median MSE below {args.fixed_mode}'s of the same size | geometric "
-          f"mean of median MSE / {args.fixed_mode}'s of the same size | the same with both "
-          f"pruned at 1e-3 |")
-    print("|---|---:|---:|---:|")
-    for mode in args.unified_modes.split(","):
-        pairs = {}
-        for r in rows:
-            if r["unified_mode"] == mode:
-                pairs.setdefault((r["mesh"], r["prims"]), []).append(r)
-        below, logs, logs0 = 0, [], []
-        for sel in pairs.values():
-            u = statistics.median(r["unified_mse"] for r in sel)
-            f = statistics.median(r["fixed_mse"] for r in sel)
-            u0 = statistics.median(r["unified_mse_default"] for r in sel)
-            f0 = statistics.median(r["fixed_mse_default"] for r in sel)
-            below += u < f
-            logs.append(math.log(u / f))
-            logs0.append(math.log(u0 / f0))
-        if logs:
-            print(f"| {mode} | {below} of {len(logs)} | {math.exp(sum(logs) / len(logs)):.3f} | "
-                  f"{math.exp(sum(logs0) / len(logs0)):.3f} |")
+    print_tables(rows, args.fixed_mode, args.unified_modes.split(","))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

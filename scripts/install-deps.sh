@@ -13,9 +13,10 @@ packages=(
   openscad
   libopencsg-dev libglew-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
 )
-# The PyTorch baseline of the benchmarks is optional for building and testing.
+# The PyTorch baseline of the benchmarks, and matplotlib for bench/fig12_pareto.py, are optional
+# for building and testing.
 if [[ "${FUZZYCSG_WITH_TORCH:-0}" == "1" ]]; then
-  packages+=(python3 python3-numpy python3-torch)
+  packages+=(python3 python3-numpy python3-torch python3-matplotlib)
 fi
 
 missing=()
