@@ -1,12 +1,16 @@
 #!/usr/bin/python3
-"""Fig. 12 at an equal number of primitives: fit the same mesh, tree size and seed with unified
-operators and with fixed product booleans, prune both as App. A says (threshold 1e-3), then prune
-the tree that kept more primitives harder, raising its threshold until it keeps no more than the
-other, and compare the errors (MSE on 2 million uniform points) of the two trees of equal size.
-Prints a Markdown table, one row per run, and with --json writes every row with both commands.
+"""Fig. 12 at an equal number of primitives: fit the same mesh, tree size and seed with optimised
+operator types (unified modes) and with fixed booleans (fixed modes), prune every tree as App. A
+says (threshold 1e-3), then, for each pair of a unified and a fixed tree, reduce the one that kept
+more primitives to the other's count and compare the errors (MSE on 2 million uniform points) of
+the two trees of equal size. The reduction is `fuzzycsg prune --max-primitives` (greedy, the
+default) or, with --method threshold, the smallest larger threshold that leaves no more
+primitives (found by bisection; a whole subtree goes at once, so it can fall far below the
+count). Prints Markdown tables, one row per run and per pair of mesh and size, and with --json
+writes every row with both commands; --summary prints the tables of such files again.
 
   /usr/bin/python3 bench/fig12_equal_size.py --meshes cgal_fandisk.off --prims 64 --seeds 0 \\
-      --unified-modes unified,unified-ui
+      --unified-modes unified,unified-ui --fixed-modes product,godel
 """
 
 import argparse
@@ -29,16 +33,23 @@ MSE = re.compile(r"prune: after\s+MSE ([0-9.eE+-]+)\s+IoU ([0-9.eE+-]+)")
 def fit(args, target, prims, mode, seed, out):
     cmd = [args.bin, "fit", target, "-o", out, "--prims", str(prims), "--iters", str(args.iters),
            "--batch", str(args.batch), "--seed", str(seed), "--threads", str(args.threads),
-           "--checkpoint-every", "0", "-q", *MODES[mode]]
-    subprocess.run(cmd, check=True)
-    with open(os.path.join(out, "report.json")) as f:
+           "--checkpoint-every", "0", "--no-metrics", "-q", *MODES[mode]]
+    report_file = os.path.join(out, "report.json")
+    # With --keep, a fit already in its directory is read instead of run again (fits are
+    # deterministic).
+    if not (args.keep and os.path.exists(report_file)):
+        subprocess.run(cmd, check=True)
+    with open(report_file) as f:
         report = json.load(f)
-    return report, " ".join(["fuzzycsg", *cmd[1:]]).replace(out, "OUT").replace(" -q", "")
+    shown = " ".join(["fuzzycsg", *cmd[1:]]).replace(out, "OUT")
+    return report, shown.replace(" -q", "").replace(" --no-metrics", "")
 
 
-def prune(args, tree, target, threshold, out, metrics):
+def prune(args, tree, target, out, metrics, threshold=1e-3, max_primitives=0):
     cmd = [args.bin, "prune", tree, "--target", target, "-o", out, "--threshold",
            f"{threshold:.6g}", "--threads", str(args.threads)]
+    if max_primitives:
+        cmd += ["--max-primitives", str(max_primitives)]
     if not metrics:
         cmd.append("--no-metrics")
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
@@ -52,27 +63,39 @@ def smallest_threshold(args, tree, target, budget, out):
     # primitives; the count falls with the threshold (a larger one removes a superset of nodes
     # in the same post-order, up to ties), checked at the end.
     lo, hi = math.log(1e-3), math.log(1.0)
-    if prune(args, tree, target, math.exp(lo), out, False)[0] <= budget:
+    if prune(args, tree, target, out, False, math.exp(lo))[0] <= budget:
         return math.exp(lo)
     for _ in range(args.bisections):
         mid = 0.5 * (lo + hi)
-        if prune(args, tree, target, math.exp(mid), out, False)[0] <= budget:
+        if prune(args, tree, target, out, False, math.exp(mid))[0] <= budget:
             hi = mid
         else:
             lo = mid
     return math.exp(hi)
 
 
+def reduced(args, tree, target, budget, out):
+    """(threshold, kept, MSE) of `tree` reduced to at most `budget` primitives."""
+    if args.method == "greedy":
+        kept, (mse, _) = prune(args, tree, target, out, True, max_primitives=budget)
+        return 1e-3, kept, mse
+    threshold = smallest_threshold(args, tree, target, budget, out)
+    kept, (mse, _) = prune(args, tree, target, out, True, threshold)
+    return threshold, kept, mse
+
+
 def print_tables(rows, fixed_mode, modes):
     print(f"| mesh | P | seed | unified mode | at 1e-3: unified kept, MSE | {fixed_mode} "
-          f"kept, MSE | at equal size: threshold, kept, MSE of the one pruned harder | MSE "
+          f"kept, MSE | at equal size: the tree reduced[, threshold], kept, MSE | MSE "
           f"ratio at equal size |")
     print("|---|---:|---:|---|---:|---:|---:|---:|")
     for r in rows:
-        harder = ("unified", "unified") if r["unified_threshold"] > 1e-3 else ("fixed", "fixed")
-        cut = "-" if max(r["unified_threshold"], r["fixed_threshold"]) == 1e-3 else (
-            f'{harder[0]} {r[harder[0] + "_threshold"]:.3g}, {r[harder[0] + "_kept"]}, '
-            f'{r[harder[0] + "_mse"]:.4f}')
+        cut = "-"
+        for side in ("unified", "fixed"):
+            if r[side + "_kept"] < r[side + "_kept_default"]:
+                threshold = (f', {r[side + "_threshold"]:.3g}'
+                             if r.get("method", "threshold") == "threshold" else "")
+                cut = f'{side}{threshold}, {r[side + "_kept"]}, {r[side + "_mse"]:.4f}'
         print(f'| {r["mesh"]} | {r["prims"]} | {r["seed"]} | {r["unified_mode"]} | '
               f'{r["unified_kept_default"]}, {r["unified_mse_default"]:.4f} | '
               f'{r["fixed_kept_default"]}, {r["fixed_mse_default"]:.4f} | {cut} | '
@@ -125,12 +148,15 @@ def main():
     ap.add_argument("--prims", default="32,64,256")
     ap.add_argument("--seeds", default="0,1,2")
     ap.add_argument("--unified-modes", default="unified",
-                    help="comma list of modes of fig12_study.py, each against the same fixed fit")
-    ap.add_argument("--fixed-mode", default="product", help="a mode of fig12_study.py")
+                    help="comma list of modes of fig12_study.py, each against every fixed mode")
+    ap.add_argument("--fixed-modes", default="product", help="comma list of modes of fig12_study.py")
+    ap.add_argument("--method", choices=["greedy", "threshold"], default="greedy",
+                    help="how the larger tree is reduced to the other's size")
     ap.add_argument("--iters", type=int, default=20000)
     ap.add_argument("--batch", type=int, default=1024)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--bisections", type=int, default=8)
+    ap.add_argument("--keep", help="keep every fit in this directory (and reuse those found)")
     ap.add_argument("--json", help="also write every row here")
     ap.add_argument("--summary", nargs="+", metavar="JSON",
                     help="fit nothing: print the tables of rows that --json wrote")
@@ -145,49 +171,52 @@ def main():
 
     rows = []
     data = os.path.relpath(os.path.abspath(args.data), ROOT)
+    fixed_modes = args.fixed_modes.split(",")
+    unified_modes = args.unified_modes.split(",")
     with tempfile.TemporaryDirectory() as tmp:
+        work = args.keep or tmp
         for mesh in args.meshes.split(","):
             target = os.path.join(args.data, mesh)
             for prims in [int(p) for p in args.prims.split(",")]:
                 for seed in [int(s) for s in args.seeds.split(",")]:
-                    base = os.path.join(tmp, f"{mesh}-{prims}-{seed}")
-                    fixed_tree = os.path.join(base + "-f", "tree.json")
-                    _, fcmd = fit(args, target, prims, args.fixed_mode, seed, base + "-f")
-                    # Every tree pruned and measured by `fuzzycsg prune`: the same points judge
-                    # redundancy and measure the error.
-                    fkept0, (fmse0, _) = prune(args, fixed_tree, target, 1e-3,
-                                               base + "-f-pruned.json", True)
-                    for mode in args.unified_modes.split(","):
-                        ur, ucmd = fit(args, target, prims, mode, seed, base + "-" + mode)
-                        unified_tree = os.path.join(base + "-" + mode, "tree.json")
-                        ukept0, (umse0, _) = prune(args, unified_tree, target, 1e-3,
-                                                   base + "-u-pruned.json", True)
-                        # The tree that keeps more primitives is pruned harder, down to at most
-                        # the other's count; the other stays at App. A's threshold.
-                        ut, ft = 1e-3, 1e-3
-                        out = base + "-equal.json"
-                        if fkept0 > ukept0:
-                            ft = smallest_threshold(args, fixed_tree, target, ukept0, out)
-                        elif ukept0 > fkept0:
-                            ut = smallest_threshold(args, unified_tree, target, fkept0, out)
-                        ukept, (umse, _) = (ukept0, (umse0, None)) if ut == 1e-3 else prune(
-                            args, unified_tree, target, ut, out, True)
-                        fkept, (fmse, _) = (fkept0, (fmse0, None)) if ft == 1e-3 else prune(
-                            args, fixed_tree, target, ft, out, True)
-                        rows.append({
-                            "mesh": mesh, "prims": prims, "seed": seed,
-                            "unified_mode": mode, "fixed_mode": args.fixed_mode,
-                            "unified_kept_default": ukept0, "unified_mse_default": umse0,
-                            "unified_changed": ur["operators"]["changed_type"],
-                            "fixed_kept_default": fkept0, "fixed_mse_default": fmse0,
-                            "unified_threshold": ut, "unified_kept": ukept, "unified_mse": umse,
-                            "fixed_threshold": ft, "fixed_kept": fkept, "fixed_mse": fmse,
-                            "unified_command": ucmd.replace(target, os.path.join(data, mesh)),
-                            "fixed_command": fcmd.replace(target, os.path.join(data, mesh)),
-                        })
-                        print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
+                    base = os.path.join(work, f"{mesh}-{prims}-{seed}")
+                    scratch = os.path.join(tmp, f"{mesh}-{prims}-{seed}")
+                    fits = {}
+                    for mode in fixed_modes + unified_modes:
+                        report, cmd = fit(args, target, prims, mode, seed, f"{base}-{mode}")
+                        tree = os.path.join(f"{base}-{mode}", "tree.json")
+                        # Every tree pruned and measured by `fuzzycsg prune`: the same points
+                        # judge redundancy and measure the error.
+                        kept, (mse, _) = prune(args, tree, target, f"{scratch}-{mode}.json", True)
+                        fits[mode] = (report, cmd.replace(target, os.path.join(data, mesh)),
+                                      tree, kept, mse)
+                    for fixed in fixed_modes:
+                        _, fcmd, ftree, fkept0, fmse0 = fits[fixed]
+                        for mode in unified_modes:
+                            ur, ucmd, utree, ukept0, umse0 = fits[mode]
+                            # The tree that keeps more primitives is reduced to at most the
+                            # other's count; the other stays as App. A prunes it.
+                            out = scratch + "-equal.json"
+                            ut, ukept, umse = 1e-3, ukept0, umse0
+                            ft, fkept, fmse = 1e-3, fkept0, fmse0
+                            if fkept0 > ukept0:
+                                ft, fkept, fmse = reduced(args, ftree, target, ukept0, out)
+                            elif ukept0 > fkept0:
+                                ut, ukept, umse = reduced(args, utree, target, fkept0, out)
+                            rows.append({
+                                "mesh": mesh, "prims": prims, "seed": seed,
+                                "unified_mode": mode, "fixed_mode": fixed, "method": args.method,
+                                "unified_kept_default": ukept0, "unified_mse_default": umse0,
+                                "unified_changed": ur["operators"]["changed_type"],
+                                "fixed_kept_default": fkept0, "fixed_mse_default": fmse0,
+                                "unified_threshold": ut, "unified_kept": ukept,
+                                "unified_mse": umse, "fixed_threshold": ft, "fixed_kept": fkept,
+                                "fixed_mse": fmse, "unified_command": ucmd, "fixed_command": fcmd,
+                            })
+                            print(json.dumps(rows[-1]), file=sys.stderr, flush=True)
 
-    print_tables(rows, args.fixed_mode, args.unified_modes.split(","))
+    for fixed in fixed_modes:
+        print_tables([r for r in rows if r["fixed_mode"] == fixed], fixed, unified_modes)
     if args.json:
         with open(args.json, "w") as f:
             json.dump(rows, f, indent=1)

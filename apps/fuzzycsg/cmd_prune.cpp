@@ -1,9 +1,11 @@
-// fuzzycsg prune TREE --target TARGET -o OUT [--threshold F] [--points N] [--sampling S]
+// fuzzycsg prune TREE --target TARGET -o OUT [--threshold F] [--max-primitives K] [--points N]
+//                [--sampling S]
 //
 // Snaps unified operators to crisp booleans and removes redundant nodes (Liu et al. 2024 App. A,
 // after Tilove 1984), judging redundancy on points drawn uniformly (as the authors' release) or
-// from the target's training distribution; reports node counts and the fit to the target before
-// and after.
+// from the target's training distribution, then, with --max-primitives, reduces the tree
+// greedily to that many primitives; reports node counts and the fit to the target before and
+// after.
 
 #include <fmt/format.h>
 
@@ -26,6 +28,7 @@ namespace {
 struct PruneArgs {
   std::string tree, target, out;
   double threshold = 1e-3;
+  int max_primitives = 0;
   std::size_t points = 65536;
   std::string sampling = "uniform";
   std::uint64_t seed = 0;
@@ -60,6 +63,7 @@ int run_prune(const PruneArgs& a) {
   PruneOptions po;
   po.threshold = a.threshold;
   po.threads = a.threads;
+  po.max_primitives = a.max_primitives;
   PruneReport report;
   const Tree pruned = prune(snapped, points, po, &report);
   const std::string text = io::write_tree_string(pruned);
@@ -94,6 +98,11 @@ Verb register_prune(CLI::App& app) {
   cmd->add_option("--threshold", a->threshold,
                   "Mean squared occupancy change below which a node is redundant")
       ->capture_default_str();
+  cmd->add_option("--max-primitives", a->max_primitives,
+                  "Then keep at most this many primitives, removing subtrees greedily by the "
+                  "least change of the output per primitive (0: no limit)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1 << 30));
   cmd->add_option("--points", a->points, "Points on which redundancy is judged")
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 26));

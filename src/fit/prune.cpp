@@ -74,18 +74,17 @@ Tree canonical(const Tree& tree) {
   return io::read_tree_string(io::write_tree_string(tree), "pruned tree");
 }
 
-// A tree that is exactly empty (or full) on the domain and at the points: one crisp plane
-// (half-plane in 2D), f = x - offset, with the offset beyond every coordinate in sight.
-Tree constant_tree(const Tree& source, std::span<const float> points, bool full) {
+// A leaf that is exactly empty (or full) on the domain and at the points, its parameters added
+// to `params`: one crisp plane (half-plane in 2D), f = x - offset, with the offset beyond every
+// coordinate in sight.
+Node constant_node(const Tree& source, std::span<const float> points, bool full,
+                   ParameterTable& params) {
   double extent = 1.0;
   const Domain domain = source.domain_or_default();
   for (std::size_t k = 0; k < static_cast<std::size_t>(source.dim); ++k) {
     extent = std::max({extent, std::abs(domain.min[k]), std::abs(domain.max[k])});
   }
   for (float v : points) extent = std::max(extent, static_cast<double>(std::abs(v)));
-  Tree out;
-  out.dim = source.dim;
-  out.domain = source.domain;
   Node n;
   n.kind = NodeKind::kPrimitive;
   n.shape.type = source.dim == 3 ? PrimitiveType::kPlane : PrimitiveType::kHalfPlane;
@@ -96,10 +95,18 @@ Tree constant_tree(const Tree& source, std::span<const float> points, bool full)
       // normal = (1, 0[, 0]); offset = +-2 extent: full is x < 2 extent, empty x < -2 extent.
       double value = k == 0 ? 1.0 : 0.0;
       if (field.arity == Arity::kScalar) value = full ? 2.0 * extent : -2.0 * extent;
-      n.intrinsic.push_back(out.params.add(Parameter{name, value, false, false, field.range}));
+      n.intrinsic.push_back(params.add(Parameter{name, value, false, false, field.range}));
     }
   }
-  out.nodes.push_back(std::move(n));
+  return n;
+}
+
+// The tree of one such leaf.
+Tree constant_tree(const Tree& source, std::span<const float> points, bool full) {
+  Tree out;
+  out.dim = source.dim;
+  out.domain = source.domain;
+  out.nodes.push_back(constant_node(source, points, full, out.params));
   out.root = 0;
   return out;
 }
@@ -397,6 +404,223 @@ class Pruner {
   std::vector<Node> built_;
 };
 
+// --- Pruning to a number of primitives (PruneOptions::max_primitives).
+
+// One edit of the greedy reduction: node `node` becomes its left child, its right child, or the
+// empty set.
+struct Shrink {
+  enum class To { kLeft, kRight, kEmpty };
+  int node = -1;
+  To to = To::kLeft;
+  int removed = 0;  // primitives the edit removes (before the parent simplifies an empty child)
+};
+
+// A binary union, intersection or difference (the nodes the reduction edits).
+bool binary_boolean(const Node& n) {
+  return n.kind == NodeKind::kOperator && n.children.size() == 2 &&
+         (n.op == OpKind::kUnion || n.op == OpKind::kIntersection || n.op == OpKind::kDifference);
+}
+
+// Its bilinear form z = a x + b y + d x y in product logic with the standard complement, which
+// is how it compiles (core/program.cpp); nullopt for other logics.
+std::optional<std::array<double, 3>> bilinear_form(const Node& n) {
+  if (!binary_boolean(n) || n.logic.family != logic::Family::kProduct ||
+      n.complement.kind != logic::Complement::kStandard) {
+    return std::nullopt;
+  }
+  switch (n.op) {
+    case OpKind::kUnion:
+      return std::array<double, 3>{1, 1, -1};
+    case OpKind::kIntersection:
+      return std::array<double, 3>{0, 0, 1};
+    default:
+      return std::array<double, 3>{1, 0, -1};  // x (1 - y)
+  }
+}
+
+// Whether the root is affine in every binary boolean's value: each operator is a product-logic
+// boolean or a standard complement (Evaluator::edit_loss_changes is then exact).
+bool affine_in_every_operator(const Tree& tree) {
+  for (const Node& n : tree.nodes) {
+    if (n.kind != NodeKind::kOperator) continue;
+    const bool complement =
+        n.op == OpKind::kComplement && n.complement.kind == logic::Complement::kStandard;
+    if (!complement && !bilinear_form(n)) return false;
+  }
+  return true;
+}
+
+// Primitives in the subtree of each node.
+std::vector<int> primitives_below(const Tree& tree) {
+  std::vector<int> out(tree.nodes.size(), -1);
+  const auto below = [&](const auto& self, int i) -> int {
+    int& c = out[static_cast<std::size_t>(i)];
+    if (c >= 0) return c;
+    const Node& n = tree.node(i);
+    c = n.kind == NodeKind::kPrimitive ? 1 : 0;
+    for (int k : n.children) c += self(self, k);
+    return c;
+  };
+  below(below, tree.root);
+  return out;
+}
+
+// Primitives removed when node `i` becomes the empty set and its ancestors simplify the
+// constant as Pruner does (A | empty = A, A & empty = empty, A \ empty = A, empty \ B = empty,
+// C(empty) = full, A | full = full, A & full = A, A \ full = empty, full \ B = C(B)): the
+// subtree that ends up constant goes; a constant root leaves one (constant) primitive.
+int removed_by_empty(const Tree& tree, int i, const std::vector<int>& below,
+                     const std::vector<int>& parent) {
+  bool full = false;
+  int node = i;
+  for (int up = parent[static_cast<std::size_t>(i)]; up >= 0;
+       node = up, up = parent[static_cast<std::size_t>(up)]) {
+    const Node& p = tree.node(up);
+    const bool left = p.children[0] == node;
+    bool constant = false;  // whether `up` becomes a constant too
+    switch (p.op) {
+      case OpKind::kUnion:
+        constant = full;
+        break;
+      case OpKind::kIntersection:
+        constant = !full;
+        break;
+      case OpKind::kDifference:
+        // empty \ B and A \ full are empty; A \ empty is A; full \ B is C(B).
+        constant = left != full;
+        full = false;
+        break;
+      case OpKind::kComplement:
+        constant = true;
+        full = !full;
+        break;
+      default:
+        constant = false;  // splines and other nodes keep their children
+        break;
+    }
+    if (!constant) return below[static_cast<std::size_t>(node)];
+  }
+  return below[static_cast<std::size_t>(tree.root)] - 1;
+}
+
+// The tree with one edit made and the empty set simplified away by its parent.
+Tree shrunk(const Tree& tree, const Shrink& s, std::span<const float> points, int threads) {
+  Tree source = tree;
+  std::vector<Node> nodes = tree.nodes;
+  int replacement = -1;
+  if (s.to == Shrink::To::kEmpty) {
+    nodes.push_back(constant_node(tree, points, false, source.params));
+    replacement = static_cast<int>(nodes.size()) - 1;
+  } else {
+    replacement = tree.node(s.node).children[s.to == Shrink::To::kLeft ? 0 : 1];
+  }
+  int root = tree.root;
+  if (s.node == root) {
+    root = replacement;
+  } else {
+    for (Node& n : nodes) {
+      for (int& c : n.children) {
+        if (c == s.node) c = replacement;
+      }
+    }
+  }
+  Tree out = canonical(extract(source, nodes, root));
+  // Only exact constants go at threshold 0: the empty leaf, and what it empties or passes.
+  if (s.to == Shrink::To::kEmpty) out = Pruner(out, points, PruneOptions{0.0, threads}).run();
+  return out;
+}
+
+// Greedy reduction of `tree` to at most `limit` primitives, judged by the mean squared
+// difference from `reference` (the input tree's output at the points). The reduction goes on
+// past the limit, down to one primitive, and the tree closest to the reference among those
+// within the limit is returned: removing more can bring a tree closer (a subtracted part
+// whose positive part is already gone).
+Tree shrink(Tree tree, std::span<const float> points, std::span<const float> reference, int limit,
+            int threads) {
+  Loss loss;
+  loss.kind = Loss::Kind::kMse;
+  loss.targets = reference;
+  const std::size_t n = reference.size();
+  std::vector<float> out(n);
+  const auto deviation = [&](const Tree& t) {
+    Evaluator(t, EvalOptions{threads}).forward(t.params.values(), points, out);
+    double s = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = static_cast<double>(out[i]) - reference[i];
+      s += d * d;
+    }
+    return s / static_cast<double>(n);
+  };
+  std::optional<Tree> best_tree;
+  double best_deviation = std::numeric_limits<double>::infinity();
+  int goal = limit;  // the count edits may not go below in one step
+  for (;;) {
+    const int primitives = count(tree).primitives;
+    const double now = deviation(tree);
+    if (primitives <= limit) {
+      if (now < best_deviation) best_tree = tree, best_deviation = now;
+      goal = 1;
+    }
+    if (primitives <= 1) break;
+
+    const std::vector<int> below = primitives_below(tree);
+    std::vector<int> parent(tree.nodes.size(), -1);
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+      for (int c : tree.nodes[k].children)
+        parent[static_cast<std::size_t>(c)] = static_cast<int>(k);
+    }
+    std::vector<Shrink> edits;
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+      const Node& node = tree.nodes[k];
+      if (!binary_boolean(node)) continue;
+      const int i = static_cast<int>(k);
+      edits.push_back({i, Shrink::To::kLeft, below[static_cast<std::size_t>(node.children[1])]});
+      edits.push_back({i, Shrink::To::kRight, below[static_cast<std::size_t>(node.children[0])]});
+      edits.push_back({i, Shrink::To::kEmpty, removed_by_empty(tree, i, below, parent)});
+    }
+    std::erase_if(edits, [](const Shrink& e) { return e.removed <= 0; });
+    if (edits.empty()) break;  // no binary boolean left to edit (complements, splines, n-ary)
+
+    std::vector<double> change(edits.size());
+    if (affine_in_every_operator(tree)) {
+      std::vector<BilinearEdit> bilinear(edits.size());
+      for (std::size_t e = 0; e < edits.size(); ++e) {
+        const std::array<double, 3> f = *bilinear_form(tree.node(edits[e].node));
+        const std::array<double, 3> to = edits[e].to == Shrink::To::kLeft ? std::array{1., 0., 0.}
+                                         : edits[e].to == Shrink::To::kRight
+                                             ? std::array{0., 1., 0.}
+                                             : std::array{0., 0., 0.};
+        bilinear[e] = BilinearEdit{edits[e].node, {to[0] - f[0], to[1] - f[1], to[2] - f[2]}};
+      }
+      Evaluator(tree, EvalOptions{threads})
+          .edit_loss_changes(tree.params.values(), points, loss, bilinear, change);
+    } else {
+      for (std::size_t e = 0; e < edits.size(); ++e) {
+        change[e] = deviation(shrunk(tree, edits[e], points, threads)) - now;
+      }
+    }
+    // The smallest change per primitive removed among the edits that remove no more than are
+    // still to go (replacing a leaf's parent by its sibling removes one, so there is one while
+    // a binary boolean has a leaf child); ties to the edit that removes more, then the first.
+    const int excess = primitives - goal;
+    const bool fits =
+        std::ranges::any_of(edits, [&](const Shrink& e) { return e.removed <= excess; });
+    std::optional<std::size_t> best;
+    for (std::size_t e = 0; e < edits.size(); ++e) {
+      if (fits && edits[e].removed > excess) continue;
+      if (!best) {
+        best = e;
+        continue;
+      }
+      const double a = change[e] / edits[e].removed;
+      const double b = change[*best] / edits[*best].removed;
+      if (a < b || (a == b && edits[e].removed > edits[*best].removed)) best = e;
+    }
+    tree = shrunk(tree, edits[*best], points, threads);
+  }
+  return best_tree ? std::move(*best_tree) : tree;
+}
+
 }  // namespace
 
 int snapped_operator(const Tree& tree, int node) {
@@ -452,12 +676,20 @@ Tree prune(const Tree& tree, std::span<const float> points, const PruneOptions& 
   if (!(options.threshold >= 0.0) || !std::isfinite(options.threshold)) {
     throw InputError("prune: threshold must be finite and >= 0");
   }
+  if (options.max_primitives < 0) throw InputError("prune: max_primitives must be >= 0");
   for (const Node& n : tree.nodes) {
     if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified) {
       throw Error("prune: the tree has unified operators; snap them first (snap_operators)");
     }
   }
   Tree pruned = Pruner(tree, points, options).run();
+  if (options.max_primitives > 0 && count(pruned).primitives > options.max_primitives) {
+    std::vector<float> reference(points.size() / dim);
+    Evaluator(tree, EvalOptions{thread_count(options.threads)})
+        .forward(tree.params.values(), points, reference);
+    pruned = shrink(std::move(pruned), points, reference, options.max_primitives,
+                    thread_count(options.threads));
+  }
   if (report) {
     const TreeCounts before = count(tree), after = count(pruned);
     report->primitives_before = before.primitives;

@@ -94,6 +94,20 @@ if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --prims 4 --iters 200 --batch 256 -
   else
     bad "prune verb"
   fi
+  # prune to one primitive: the report's count and the file agree.
+  if "$bin" prune "$tmp/fit/tree.json" --target "$tmp/disc.json" -o "$tmp/pruned1.json" \
+        --max-primitives 1 --no-metrics | grep -q -- "-> 1+" &&
+      "$bin" info "$tmp/pruned1.json" | grep -q "^  primitives *1$"; then
+    ok
+  else
+    bad "prune --max-primitives 1: $("$bin" info "$tmp/pruned1.json" 2>&1 | head -3)"
+  fi
+  if "$bin" prune "$tmp/fit/tree.json" --target "$tmp/disc.json" -o "$tmp/bad.json" \
+        --max-primitives -1 >/dev/null 2>&1; then
+    bad "prune --max-primitives -1 accepted"
+  else
+    ok
+  fi
   # resume: continue the same fit to 300 steps.
   if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --iters 300 --metric-points 20000 \
         --threads 2 >"$tmp/resume.log" 2>&1 && grep -q '"steps": 300' "$tmp/fit/report.json"; then

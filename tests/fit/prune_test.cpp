@@ -309,6 +309,76 @@ TEST(Prune, RejectsUnifiedOperatorsAndBadPoints) {
   EXPECT_THROW(prune(t, std::vector<float>(7)), InputError);
   EXPECT_THROW(prune(t, std::vector<float>()), InputError);
   EXPECT_THROW(prune(t, points(), PruneOptions{-1.0, 1}), InputError);
+  EXPECT_THROW(prune(t, points(), PruneOptions{1e-3, 1, -1}), InputError);
+}
+
+// ---- pruning to a number of primitives
+
+// Radii of the spheres of a pruned tree, sorted.
+std::vector<double> sphere_radii(const Tree& t) {
+  std::vector<double> out;
+  for (const Node& n : t.nodes) {
+    if (n.kind == NodeKind::kPrimitive) out.push_back(t.params[n.intrinsic[0]].value);
+  }
+  std::ranges::sort(out);
+  return out;
+}
+
+// ((s1 | s2) | (s3 | s4)) of four disjoint spheres: kept to k primitives, the k largest stay,
+// whether the unions are product logic (edits judged by one sweep) or Gödel's (edits evaluated
+// one by one).
+TEST(PruneToSize, KeepsTheLargestOfDisjointSpheres) {
+  const auto sphere = [](double r, double x) {
+    return R"({"type": "sphere", "radius": )" + std::to_string(r) + R"(, "translate": [)" +
+           std::to_string(x) + R"(, 0, 0], "sharpness": 200})";
+  };
+  for (const std::string logic : {"", R"("logic": "godel", )"}) {
+    const Tree t = tree3(op("union", op("union", sphere(0.2, -0.7), sphere(0.12, -0.2), logic),
+                            op("union", sphere(0.15, 0.2), sphere(0.25, 0.65), logic), logic));
+    for (int k = 1; k <= 4; ++k) {
+      PruneReport report;
+      const Tree p = prune(t, points(), PruneOptions{1e-6, 2, k}, &report);
+      validate(p, "pruned");
+      std::vector<double> want = {0.12, 0.15, 0.2, 0.25};
+      want.erase(want.begin(), want.end() - k);
+      EXPECT_EQ(sphere_radii(p), want) << "k = " << k << (logic.empty() ? "" : ", Godel");
+      EXPECT_EQ(report.primitives_after, k);
+    }
+  }
+}
+
+// A subtracted part goes with what it was cut from: of (a \ b) | c, at one primitive the
+// closest tree is c alone or a alone, never b.
+TEST(PruneToSize, NeverKeepsOnlyASubtrahend) {
+  const Tree t = tree3(op("union", op("difference", kA, kC), kB));
+  const Tree p = prune(t, points(), PruneOptions{1e-6, 2, 1});
+  ASSERT_EQ(count(p).primitives, 1);
+  EXPECT_NE(p.node(p.root).shape.type, PrimitiveType::kCylinder);
+}
+
+// Random full trees: the limit is met, the result is a valid binary tree that reads back, and a
+// limit the threshold already meets changes nothing.
+TEST(PruneToSize, FullTreesMeetTheLimit) {
+  FullTreeOptions o;
+  o.leaves = 32;
+  o.seed = 3;
+  for (OperatorMode ops : {OperatorMode::kProduct, OperatorMode::kGodel}) {
+    o.ops = ops;
+    const Tree t = make_full_binary_tree(o);
+    const std::vector<float> pts = random_points(16384, 3, 5);
+    const Tree plain = prune(t, pts, PruneOptions{1e-3, 2});
+    const int kept = count(plain).primitives;
+    ASSERT_GT(kept, 8);
+    EXPECT_EQ(testing::tree_difference(prune(t, pts, PruneOptions{1e-3, 2, kept}), plain), "");
+    for (int k : {kept - 1, 8, 3, 1}) {
+      const Tree p = prune(t, pts, PruneOptions{1e-3, 2, k});
+      validate(p, "pruned");
+      const TreeCounts c = count(p);
+      EXPECT_LE(c.primitives, k);
+      EXPECT_GE(c.primitives, 1);
+      EXPECT_EQ(testing::tree_difference(io::read_tree_string(io::write_tree_string(p)), p), "");
+    }
+  }
 }
 
 // ---- full binary trees

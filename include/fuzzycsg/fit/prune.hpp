@@ -23,6 +23,9 @@ Tree snap_operators(const Tree& tree);
 struct PruneOptions {
   double threshold = 1e-3;  // mean squared occupancy difference up to which a node is redundant
   int threads = 0;          // 0: all hardware threads
+  // After the redundant nodes are gone, at most this many primitives are kept (0: no limit):
+  // see prune().
+  int max_primitives = 0;
 };
 
 struct PruneReport {
@@ -43,6 +46,16 @@ struct PruneReport {
 //   the output stays within the threshold of that with all its children.
 // Each removal is judged locally, so the changes of many add up: on large trees the pruned
 // output may differ from the original by a few times the threshold.
+// With options.max_primitives > 0, a tree that still has more primitives is then reduced one
+// edit at a time, greedily: among the edits that replace a binary union, intersection or
+// difference by one of its children or by the empty set (which its parent then simplifies
+// away), the one that adds the least to the mean squared difference from the input tree's
+// output at the points, per primitive it removes (counting no more than are still to go), is
+// made, until the limit is met. For trees of product-logic booleans and standard complements
+// (snapped unified trees, the product baseline) every edit's effect comes exactly from one
+// forward and one reverse sweep (Evaluator::edit_loss_changes); other trees evaluate each
+// candidate. Threshold pruning alone removes whole subtrees as soon as the threshold allows,
+// so raising the threshold to reach a size can collapse a tree far below it; this does not.
 // A whole tree that amounts to a constant becomes one crisp plane (half-plane in 2D) that is
 // exactly that constant over the domain and the points: a tree has at least one node, and no
 // leaf of a fuzzy tree need be close to 0 or 1. Parameters of removed nodes (and shared
