@@ -449,6 +449,10 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--prune-threshold", o->prune_threshold,
                                   "Mean squared occupancy change below which a node is redundant")
                       ->capture_default_str());
+  model.push_back(cmd->add_option("--prune-max-primitives", o->prune_max_primitives,
+                                  "Then keep at most this many primitives, removing those that "
+                                  "change the output least (0: no limit)")
+                      ->capture_default_str());
   model.push_back(
       cmd->add_option("--padding", job->padding, "Meshes: margin left around the normalised shape")
           ->capture_default_str());

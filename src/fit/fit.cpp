@@ -222,6 +222,10 @@ void validate(const FitOptions& o, int dim) {
              fmt::format("must be in [1, 16777216] (got {})", o.type_search_points));
   }
   if (o.prune_points < 1) bad_flag("--prune-points", "must be >= 1");
+  if (o.prune_max_primitives < 0) {
+    bad_flag("--prune-max-primitives",
+             fmt::format("must be >= 0 (0: no limit; got {})", o.prune_max_primitives));
+  }
   if (o.metrics.points < 1) bad_flag("--metric-points", "must be >= 1");
 }
 
@@ -549,6 +553,7 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
   PruneOptions po;
   po.threshold = o.prune_threshold;
   po.threads = o.threads;
+  po.max_primitives = o.prune_max_primitives;
   result.pruned = prune(result.snapped, prune_points, po, &result.prune);
   result.prune_seconds = seconds_since(t0);
 

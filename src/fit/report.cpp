@@ -59,6 +59,7 @@ json options_to_json(const FitOptions& o) {
               {"time_limit", o.time_limit},
               {"prune_threshold", o.prune_threshold},
               {"prune_points", o.prune_points},
+              {"prune_max_primitives", o.prune_max_primitives},
               {"metric_points", o.metrics.points},
               {"chamfer", o.metrics.chamfer},
               {"chamfer_resolution", o.metrics.chamfer_resolution},
@@ -185,6 +186,8 @@ FitOptions options_from_json(const json& j, const Reader& r, int dim) {
   o.time_limit = r.get<double>(j, w, "time_limit");
   o.prune_threshold = r.get<double>(j, w, "prune_threshold");
   o.prune_points = r.get<std::size_t>(j, w, "prune_points");
+  // Checkpoints written before there was a limit have none.
+  o.prune_max_primitives = r.get_or<int>(j, w, "prune_max_primitives", 0);
   o.metrics.points = r.get<std::size_t>(j, w, "metric_points");
   o.metrics.chamfer = r.get<bool>(j, w, "chamfer");
   o.metrics.chamfer_resolution = r.get<int>(j, w, "chamfer_resolution");

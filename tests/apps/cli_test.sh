@@ -125,6 +125,17 @@ fi
 expect_error "--prims: must be a power of two" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --prims 6 -q
 expect_error "--lr: must be > 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --lr -1 -q
 expect_error "--family: unknown 2D primitive" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --family sphere -q
+expect_error "--prune-max-primitives: must be >= 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
+  --prune-max-primitives -1 -q
+# fit --prune-max-primitives: the pruned tree keeps at most that many, and the report says so.
+if "$bin" fit "$tmp/disc.json" -o "$tmp/fitk" --prims 8 --iters 100 --batch 256 --lr 0.01 \
+      --prune-max-primitives 1 --no-metrics --checkpoint-every 0 --threads 2 -q &&
+    "$bin" info "$tmp/fitk/tree_pruned.json" | grep -q "^  primitives *1$" &&
+    grep -q '"prune_max_primitives": 1' "$tmp/fitk/report.json"; then
+  ok
+else
+  bad "fit --prune-max-primitives 1: $("$bin" info "$tmp/fitk/tree_pruned.json" 2>&1 | head -3)"
+fi
 expect_error "no-such-mesh.obj" "$bin" fit "$tmp/no-such-mesh.obj" -o "$tmp/f2" -q
 expect_error "cannot create output directory" "$bin" fit "$tmp/disc.json" -o "$tmp/sphere.json/sub" -q
 expect_error "checkpoint" "$bin" fit "$tmp/disc.json" -o "$tmp/f3" --resume -q

@@ -11,6 +11,7 @@
 
 #include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/fit/fit.hpp"
 #include "fuzzycsg/fit/plot.hpp"
 #include "fuzzycsg/fit/report.hpp"
@@ -73,6 +74,9 @@ TEST(FitOptionsValidation, NamesTheFlag) {
   o = {};
   o.pool = 10;  // smaller than the batch
   EXPECT_NE(message(o).find("--pool"), std::string::npos);
+  o = {};
+  o.prune_max_primitives = -1;
+  EXPECT_NE(message(o).find("--prune-max-primitives"), std::string::npos);
   EXPECT_EQ(message(FitOptions{}), "");
 }
 
@@ -109,6 +113,25 @@ TEST(Fit, LossFallsAndOperatorsAreCounted) {
   }
   EXPECT_EQ(fixed_moved, 0);
   EXPECT_GT(moved, 40);
+}
+
+// --prune-max-primitives bounds the pruned tree and leaves the trained one as it was.
+TEST(Fit, PruneMaxPrimitivesBoundsThePrunedTree) {
+  const testing::BallTarget target(3, {0, 0, 0}, 0.5);
+  FitOptions o = small_options();
+  o.prims = 8;
+  o.prune_threshold = 0;  // only what is exactly redundant goes at the threshold
+  const FitResult free = fit(target, o);
+  ASSERT_EQ(free.stop, StopReason::kIterations);
+  ASSERT_GT(count(free.pruned).primitives, 2);
+  o.prune_max_primitives = 2;
+  const FitResult bounded = fit(target, o);
+  ASSERT_EQ(bounded.stop, StopReason::kIterations);
+  EXPECT_EQ(bounded.trained.params.values(), free.trained.params.values());
+  EXPECT_LE(count(bounded.pruned).primitives, 2);
+  EXPECT_GE(count(bounded.pruned).primitives, 1);
+  EXPECT_EQ(bounded.prune.primitives_after, count(bounded.pruned).primitives);
+  EXPECT_EQ(bounded.prune.primitives_before, free.prune.primitives_before);
 }
 
 // The sharpness of each leaf's sigmoid step, indexed by leaf.

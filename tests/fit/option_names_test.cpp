@@ -83,7 +83,10 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   o.init = InitMode::kBalls;
   o.lr_schedule = LrSchedule::kCosine;
   o.sharpness_param = SharpnessParam::kLog;
+  o.prune_max_primitives = 7;
   const std::string good = checkpoint_to_string(small_checkpoint(o));
+  EXPECT_EQ(read_checkpoint(write_temp("fuzzycsg_good.json", good)).options.prune_max_primitives,
+            7);
 
   const std::string bad_ops =
       write_temp("fuzzycsg_bad_ops.json", edited(good, "ops", "product", "\"ops\": \"fuzzy\","));
@@ -106,6 +109,9 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   older = edited(older, "init", "balls", "");
   older = edited(older, "lr_schedule", "cosine", "");
   older = edited(older, "sharpness_param", "log", "");
+  const std::string limit = "\"prune_max_primitives\": 7,";
+  ASSERT_NE(older.find(limit), std::string::npos);
+  older.replace(older.find(limit), limit.size(), "");
   const Checkpoint back = read_checkpoint(write_temp("fuzzycsg_older.json", older));
   EXPECT_EQ(back.options.ops, OperatorMode::kProduct);
   EXPECT_EQ(back.options.op_init, OperatorInit::kUniform);
@@ -113,6 +119,7 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
   EXPECT_EQ(back.options.init, InitMode::kRandom);
   EXPECT_EQ(back.options.lr_schedule, LrSchedule::kConstant);
   EXPECT_EQ(back.options.sharpness_param, SharpnessParam::kLinear);
+  EXPECT_EQ(back.options.prune_max_primitives, 0);
 }
 
 }  // namespace

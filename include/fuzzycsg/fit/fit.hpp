@@ -86,6 +86,9 @@ struct FitOptions {
   // --- after training
   double prune_threshold = 1e-3;
   std::size_t prune_points = 65536;  // uniform points on which redundancy is judged
+  // After threshold pruning, at most this many primitives are kept (0: no limit): the greedy
+  // reduction of PruneOptions::max_primitives.
+  int prune_max_primitives = 0;
   MetricsOptions metrics;
   bool measure = true;
 };
