@@ -66,6 +66,11 @@ MODES = {
     # Unified operators that are unions or intersections only (--op-types): with quadric
     # leaves a difference is an intersection with a negated leaf (fuzzycsg/fit/types.hpp).
     "unified-ui": ["--ops", "unified", "--op-types", "union-intersection"],
+    # Both started from the target (--init surface), so that the comparison of optimised and
+    # fixed types is not one of two random starts.
+    "unified-ui-surface": ["--ops", "unified", "--op-types", "union-intersection",
+                           "--init", "surface"],
+    "product-surface": ["--ops", "product", "--init", "surface"],
     "ts-ui": ["--ops", "unified", "--op-types", "union-intersection", "--temperature-ramp", "0",
               "--type-search-every", "500"],
     # The same from a temperature of 1, where a two-type operator starts as a blend of union
