@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench/bench_lists.hpp"
+#include "bench/data_dir.hpp"
 #include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
@@ -76,10 +77,9 @@ int main(int argc, char** argv) {
   std::vector<Model> models;
   models.push_back(
       {"small", parse_openscad_csg_tree(fuzzycsg::bench::kSmallScene, "small"), 0.061});
-  models.push_back({"large",
-                    read_openscad_csg_tree(std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
-                                           "../shared/data/scad/Basics/CSG.openscad.csg"),
-                    0.345});
+  models.push_back(
+      {"large", read_openscad_csg_tree(fuzzycsg::bench::data_file("scad/Basics/CSG.openscad.csg")),
+       0.345});
   std::printf("one step, one view, 512x512, normal images; median of %d steps\n", runs);
   std::printf("%-6s %9s %6s %8s %8s %8s %8s %8s %8s %8s %7s\n", "model", "triangles", "thr",
               "scene", "edges", "visib.", "shadeAA", "backward", "total", "paper", "ratio");

@@ -9,7 +9,7 @@ non-manifold edges, which the fitter's inside test copes with like any other CAD
 This lets the study fit the same shapes in 2D (conics on the bitmap) and in 3D (quadrics on the
 extrusion) with one sampler, so the dimension is separated from the kind of shape.
 
-    /usr/bin/python3 bench/extrude_glyphs.py --out DIR ../shared/data/glyphs/A.pbm ...
+    /usr/bin/python3 bench/extrude_glyphs.py --out DIR $FUZZYCSG_DATA/glyphs/A.pbm ...
 """
 
 import argparse

@@ -25,6 +25,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fig12_study import MODES, ROOT  # noqa: E402
+from data_dir import data_path, require  # noqa: E402
 
 COUNTS = re.compile(r"prune: (\d+)\+(\d+) -> (\d+)\+(\d+) nodes")
 MSE = re.compile(r"prune: after\s+MSE ([0-9.eE+-]+)\s+IoU ([0-9.eE+-]+)")
@@ -143,7 +144,7 @@ def print_tables(rows, fixed_mode, modes):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", default=os.path.join(ROOT, "build/release/apps/fuzzycsg/fuzzycsg"))
-    ap.add_argument("--data", default=os.path.join(ROOT, "../shared/data/meshes/cad"))
+    ap.add_argument("--data", default=data_path("meshes", "cad"))
     ap.add_argument("--meshes", default="cgal_fandisk.off")
     ap.add_argument("--prims", default="32,64,256")
     ap.add_argument("--seeds", default="0,1,2")
@@ -169,6 +170,8 @@ def main():
             print_tables(sel, fixed, list(dict.fromkeys(r["unified_mode"] for r in sel)))
         return 0
 
+    for mesh in args.meshes.split(","):
+        require(os.path.join(args.data, mesh))
     rows = []
     data = os.path.relpath(os.path.abspath(args.data), ROOT)
     fixed_modes = args.fixed_modes.split(",")

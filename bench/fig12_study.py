@@ -26,6 +26,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from data_dir import data_path, require  # noqa: E402
+
 MODES = {
     "unified": ["--ops", "unified"],
     "unified-t1000": ["--ops", "unified", "--temperature-ramp", "0"],
@@ -125,7 +128,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     root = ROOT
     ap.add_argument("--bin", default=os.path.join(root, "build/release/apps/fuzzycsg/fuzzycsg"))
-    ap.add_argument("--data", default=os.path.join(root, "../shared/data/meshes/cad"))
+    ap.add_argument("--data", default=data_path("meshes", "cad"))
     ap.add_argument("--meshes", default="cgal_fandisk.off")
     ap.add_argument("--prims", default="32,64,256")
     ap.add_argument("--modes", default="unified,unified-t1000,product,godel")
@@ -136,6 +139,8 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--json", help="also write every run's summary here")
     args = ap.parse_args()
+    for mesh in args.meshes.split(","):
+        require(os.path.join(args.data, mesh))
 
     rows = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/data_dir.hpp"
 #include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
@@ -80,8 +81,7 @@ Camera view(const Scene& scene) {
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 21;
   const int hw = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const std::filesystem::path scad =
-      std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/scad";
+  const std::filesystem::path scad = fuzzycsg::bench::data_file("scad");
   struct Model {
     const char* name;
     Scene scene;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "bench/bench_lists.hpp"
+#include "bench/data_dir.hpp"
 #include "diffcsg_scenes.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/visibility.hpp"
@@ -37,8 +38,8 @@ int main(int argc, char** argv) {
   };
   std::vector<Model> models;
   models.push_back({"small", parse_openscad_csg(fuzzycsg::bench::kSmallScene, "small")});
-  models.push_back({"large", read_openscad_csg(std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
-                                               "../shared/data/scad/Old/example001.openscad.csg")});
+  models.push_back(
+      {"large", read_openscad_csg(fuzzycsg::bench::data_file("scad/Old/example001.openscad.csg"))});
   std::printf("512x512, %d hardware threads, median of %d frames\n", hw, runs);
   for (const Model& m : models) {
     const auto [lo, hi] = m.scene.bounds();

@@ -5,10 +5,11 @@
 //                [--angle-lr X] [--sharpness-start X] [--sharpness-end X] [picture ...]
 //
 // For each picture (default: the 128x128 glyphs P, E, b and i of DejaVuSans-Bold in
-// ../shared/data/glyphs), N random trees (default 20, seeds 1..N) of norm(10, 2) primitives are
-// locally optimized (optimize_locally, defaults) and the best is kept; it is then refined
-// (refine, defaults but for the options given), and the refined tree is locally optimized once
-// more. Printed: the crisp scores (EXCESS + UNCOVERED + 25 x primitives) and the times.
+// the data collection's glyphs/ (bench/data_dir.hpp)), N random trees (default 20, seeds 1..N) of
+// norm(10, 2) primitives are locally optimized (optimize_locally, defaults) and the best is kept;
+// it is then refined (refine, defaults but for the options given), and the refined tree is locally
+// optimized once more. Printed: the crisp scores (EXCESS + UNCOVERED + 25 x primitives) and the
+// times.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/data_dir.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"
 #include "fuzzycsg/trace/optimize.hpp"
@@ -61,8 +63,7 @@ int main(int argc, char** argv) {
     }
   }
   if (pictures.empty()) {
-    const std::filesystem::path dir =
-        std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/glyphs";
+    const std::filesystem::path dir = fuzzycsg::bench::data_file("glyphs");
     for (const char* g : {"U0050_P", "U0045_E", "U0062_b", "U0069_i"}) {
       pictures.push_back(dir / (std::string("DejaVuSans-Bold_") + g + ".png"));
     }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Times whole fits: the two reference cases of the authors' public release (Liu et al. 2024;
-# ../shared/data/liu2024/PROVENANCE.md), trained with the fuzzycsg program, then the PyTorch
+# liu2024/PROVENANCE.md of the data collection, scripts/data-dir.sh), trained with the fuzzycsg program, then the PyTorch
 # model of the paper (torch_model.py train) timed on the same configurations, and prints one
 # table: steps, fuzzycsg training seconds and steps/s, wall time of the whole command, final
 # loss, MSE on 2M points before and after pruning, primitives kept, PyTorch seconds per step and
@@ -53,8 +53,9 @@ for v in LOGO_ITERS TABLE_ITERS THREADS TORCH_STEPS TORCH_REPS; do
 done
 
 # --- cases and data --------------------------------------------------------------------------
-# The data is not vendored: it lies in ../shared/data beside the repository root.
-data=$root/../shared/data/liu2024
+# The data is not vendored: it is the data collection's liu2024/ (scripts/data-dir.sh).
+source "$root/scripts/data-dir.sh"
+data=$(fuzzycsg_data_dir liu2024) || exit 2
 IFS=, read -r -a cases <<<"$CASES"
 [[ ${#cases[@]} -gt 0 ]] || die "CASES is empty"
 for c in "${cases[@]}"; do
@@ -64,7 +65,7 @@ for c in "${cases[@]}"; do
     *) die "unknown case '$c' in CASES (known: logo, table)" ;;
   esac
   [[ -f "$data/$file" ]] ||
-    die "missing $data/$file: the reference data of the authors' release is expected in ../shared/data/liu2024 relative to the repository root ($root)"
+    die "missing $data/$file: the reference data of the authors' release (liu2024/ of the data collection; set FUZZYCSG_DATA to its folder)"
 done
 data=$(cd "$data" && pwd)
 # The baseline needs PyTorch: say so before minutes of fitting, not after.

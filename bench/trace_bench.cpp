@@ -3,17 +3,19 @@
 //
 //   trace_bench [picture] [primitives] [seed]
 //
-// Defaults: the 128x128 glyph P of ../shared/data/glyphs, 10 primitives, seed 1. Each round
-// moves one random primitive by a small random amount; "full" evaluates the whole tree again,
-// "incremental" re-evaluates the leaf-to-root path only. Both also count the score (EXCESS +
-// UNCOVERED), as the local optimizer does after every change. Then the local optimizer on
-// five random trees of that size: time, sweeps, trees evaluated, primitives scan-converted.
+// Defaults: the 128x128 glyph P of the data collection's glyphs/ (bench/data_dir.hpp), 10
+// primitives, seed 1. Each round moves one random primitive by a small random amount; "full"
+// evaluates the whole tree again, "incremental" re-evaluates the leaf-to-root path only. Both also
+// count the score (EXCESS + UNCOVERED), as the local optimizer does after every change. Then the
+// local optimizer on five random trees of that size: time, sweeps, trees evaluated, primitives
+// scan-converted.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 
+#include "bench/data_dir.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"
 #include "fuzzycsg/trace/optimize.hpp"
@@ -23,8 +25,7 @@ using namespace fuzzycsg::trace;
 int main(int argc, char** argv) {
   const std::filesystem::path picture =
       argc > 1 ? std::filesystem::path(argv[1])
-               : std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
-                     "../shared/data/glyphs/DejaVuSans-Bold_U0050_P.png";
+               : fuzzycsg::bench::data_file("glyphs/DejaVuSans-Bold_U0050_P.png");
   const int primitives = argc > 2 ? std::atoi(argv[2]) : 10;
   const std::uint64_t seed = argc > 3 ? std::strtoull(argv[3], nullptr, 10) : 1;
   const Bitmap target = read_bitmap(picture);

@@ -13,7 +13,8 @@
 //   trace_compare [--budget S] [--prims N] [--threads N] [glyph.png ...]
 //
 // Defaults: 10 s, 32 leaves for the fuzzy fit, every hardware thread, and the paper's letters
-// P, E, b, i of DejaVu Sans Bold from ../shared/data/glyphs. Prints a Markdown table.
+// P, E, b, i of DejaVu Sans Bold from the data collection's glyphs/ (bench/data_dir.hpp). Prints a
+// Markdown table.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -22,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench/data_dir.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/fit/fit.hpp"
 #include "fuzzycsg/target/target.hpp"
@@ -92,8 +94,7 @@ int main(int argc, char** argv) {
     }
   }
   if (glyphs.empty()) {
-    const std::filesystem::path dir =
-        std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/glyphs";
+    const std::filesystem::path dir = fuzzycsg::bench::data_file("glyphs");
     for (const char* g : {"U0050_P", "U0045_E", "U0062_b", "U0069_i"}) {
       glyphs.push_back(dir / (std::string("DejaVuSans-Bold_") + g + ".png"));
     }

@@ -6,7 +6,8 @@
 //   trace_search_bench [picture] [seed] [runs]
 //   trace_search_bench --glyphs [threads]
 //
-// Defaults: the 128x128 glyph P of ../shared/data/glyphs, seed 1, 3 runs of each (medians).
+// Defaults: the 128x128 glyph P of the data collection's glyphs/ (bench/data_dir.hpp), seed 1, 3
+// runs of each (medians).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "bench/bench_lists.hpp"
+#include "bench/data_dir.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/search.hpp"
 
@@ -26,8 +28,7 @@ using fuzzycsg::bench::median;
 // --glyphs: the search on the paper's letters P, E, b, i (DejaVu Sans Bold), seeds 1 and 2,
 // one thread each: score, primitives, effort and time, a row per run.
 int glyph_table(int threads) {
-  const std::filesystem::path dir =
-      std::filesystem::path(FUZZYCSG_SOURCE_DIR) / "../shared/data/glyphs";
+  const std::filesystem::path dir = fuzzycsg::bench::data_file("glyphs");
   std::printf(
       "| glyph | seed | score | excess | uncovered | primitives | trees evaluated | "
       "best at | evaluations | s |\n|---|---|---|---|---|---|---|---|---|---|\n");
@@ -59,8 +60,7 @@ int main(int argc, char** argv) {
   }
   const std::filesystem::path picture =
       argc > 1 ? std::filesystem::path(argv[1])
-               : std::filesystem::path(FUZZYCSG_SOURCE_DIR) /
-                     "../shared/data/glyphs/DejaVuSans-Bold_U0050_P.png";
+               : fuzzycsg::bench::data_file("glyphs/DejaVuSans-Bold_U0050_P.png");
   const std::uint64_t seed = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 1;
   const int runs = argc > 3 ? std::max(1, std::atoi(argv[3])) : 3;
   const Bitmap target = read_bitmap(picture);

@@ -5,10 +5,11 @@
 #   scripts/make-trace-pictures.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/data-dir.sh
+glyphs=$(fuzzycsg_data_dir glyphs) || exit 2
 cmake --preset release > /dev/null
 cmake --build build/release -j "$(nproc)" --target fuzzycsg
 fuzzycsg=build/release/apps/fuzzycsg/fuzzycsg
-glyphs=../shared/data/glyphs
 for g in U0050_P U0045_E U0062_b U0069_i; do
   "$fuzzycsg" trace "$glyphs/DejaVuSans-Bold_$g.png" -o "docs/trace/${g#*_}" --seed 1
 done

@@ -364,7 +364,7 @@ TEST(DiffcsgVisibility, TheFastRendererDrawsTheFirstImplementationsFramesToTheBi
     const std::string text = tree_file(op(op(leaf(), leaf()), op(leaf(), op(leaf(), leaf()))));
     scenes.emplace_back(text, scene_from_tree(io::read_tree_string(text), "random"));
   }
-  const std::filesystem::path scad = std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "scad";
+  const std::filesystem::path scad = std::filesystem::path(FUZZYCSG_TEST_DATA_DIR) / "scad";
   for (const char* file :
        {"Old/example001.openscad.csg", "Old/example003.openscad.csg", "Basics/CSG.openscad.csg"}) {
     scenes.emplace_back(file, read_openscad_csg(scad / file));

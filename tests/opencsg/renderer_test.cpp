@@ -30,7 +30,7 @@ using diffcsg::Frame;
 using diffcsg::Scene;
 using diffcsg::Vec3;
 
-const std::filesystem::path kScad = std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "scad";
+const std::filesystem::path kScad = std::filesystem::path(FUZZYCSG_TEST_DATA_DIR) / "scad";
 constexpr int kWidth = 240, kHeight = 180;  // not square: the aspect ratio is checked too
 
 // Two views of the scene's bounding box from outside it.

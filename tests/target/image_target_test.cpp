@@ -1,5 +1,5 @@
 // Image targets: a disc drawn here against the analytic disc (area, labels, boundary, normals,
-// distances), aspect ratio, the Netpbm reader against PNG, the shared pictures, bad files.
+// distances), aspect ratio, the Netpbm reader against PNG, the glyphs of tests/data, bad files.
 #include <gtest/gtest.h>
 #include <stb_image_write.h>
 
@@ -244,7 +244,7 @@ TEST(ImageTarget, NetpbmFormatsAgreeWithPng) {
   }
 }
 
-TEST(ImageTarget, SharedPictures) {
+TEST(ImageTarget, GlyphPictures) {
   // The glyphs come as PBM and PNG of the same bitmap.
   for (const char* glyph : {"DejaVuSans-Bold_U0026_ampersand", "LiberationSerif-Regular_U0069_i"}) {
     SCOPED_TRACE(glyph);
@@ -262,14 +262,26 @@ TEST(ImageTarget, SharedPictures) {
     EXPECT_GT(fraction, 0.02);
     EXPECT_LT(fraction, 0.5);
   }
-  // The 2D target of Liu et al.: the GitHub logo, a dark cat in a dark ring on white.
-  const auto logo = load_target(data_file("liu2024/2D_github_logo.jpg"));
-  EXPECT_EQ(logo->describe(), "image 2D_github_logo.jpg: 4267x4267 pixels, grid 256x256");
+}
+
+// A large JPEG of a logo-like shape (as Liu et al.'s 2D target: a dark disc in a dark ring on
+// white), drawn here: the picture is read whole and resampled to the distance grid.
+TEST(ImageTarget, LargeJpeg) {
+  TempDir dir;
+  const std::string path = dir.file("logo.jpg");
+  const Picture p = draw(3000, 3000, [](double x, double y) {
+    const double r = std::hypot(x, y);
+    return r < 0.55 || (r > 0.8 && r < 0.95);
+  });
+  ASSERT_TRUE(stbi_write_jpg(path.c_str(), p.width, p.height, 1, p.grey.data(), 90));
+  const auto logo = load_target(path);
+  EXPECT_EQ(logo->describe(), "image logo.jpg: 3000x3000 pixels, grid 256x256");
   const double fraction = inside_fraction(*logo, 100000, 3);
   EXPECT_GT(fraction, 0.3);
   EXPECT_LT(fraction, 0.7);
   std::vector<float> occ(2);
-  logo->occupancy(std::vector<float>{0.0f, 0.0f, 0.99f, 0.99f}, occ);  // the cat's face, a corner
+  logo->occupancy(std::vector<float>{0.0f, 0.0f, 0.99f, 0.99f}, occ);  // the disc, a corner
+  EXPECT_EQ(occ[0], 1.0f);
   EXPECT_EQ(occ[1], 0.0f);
   Rng rng(5);
   std::vector<float> b, n;

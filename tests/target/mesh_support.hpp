@@ -207,7 +207,7 @@ inline std::string to_stl_binary(const PolyMesh& m) {
   return s;
 }
 
-// OFF as the shared data writes it: "OFF", counts, vertices, faces "n i0 i1 ...".
+// OFF as tests/data holds it: "OFF", counts, vertices, faces "n i0 i1 ...".
 inline PolyMesh read_off(const std::string& path) {
   std::ifstream in(path);
   std::string magic;

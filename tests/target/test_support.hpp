@@ -20,11 +20,11 @@ namespace fuzzycsg::test {
 
 namespace fs = std::filesystem;
 
-// A file of ../shared/data. A missing file throws, which fails the test: these tests never skip.
+// A file of tests/data. A missing file throws, which fails the test: these tests never skip.
 inline std::string data_file(const std::string& relative) {
-  const fs::path path = fs::path(FUZZYCSG_SHARED_DATA_DIR) / relative;
+  const fs::path path = fs::path(FUZZYCSG_TEST_DATA_DIR) / relative;
   if (!fs::is_regular_file(path)) {
-    throw std::runtime_error("missing shared data file " + path.string());
+    throw std::runtime_error("missing test data file " + path.string());
   }
   return path.string();
 }

@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kGlyphs = fs::path(FUZZYCSG_SHARED_DATA_DIR) / "glyphs";
+const fs::path kGlyphs = fs::path(FUZZYCSG_TEST_DATA_DIR) / "glyphs";
 
 class TempDir {
  public:

@@ -117,7 +117,7 @@ TEST(TraceOptimize, NeverWorsensARandomTree) {
 }
 
 TEST(TraceOptimize, LowersTheScoreOfRandomTreesOnAGlyph) {
-  const Bitmap target = read_bitmap(std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "glyphs" /
+  const Bitmap target = read_bitmap(std::filesystem::path(FUZZYCSG_TEST_DATA_DIR) / "glyphs" /
                                     "DejaVuSans-Bold_U0050_P.png");
   Rng rng(32);
   for (int trial = 0; trial < 3; ++trial) {

@@ -25,7 +25,7 @@ constexpr int kGlyphSteps = 150;
 #endif
 
 Bitmap glyph(const char* name) {
-  return read_bitmap(std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "glyphs" / name);
+  return read_bitmap(std::filesystem::path(FUZZYCSG_TEST_DATA_DIR) / "glyphs" / name);
 }
 
 double crisp_score(const CsgTree& t, const Bitmap& target, double k = 25.0) {
