@@ -171,7 +171,7 @@ Verb register_demo(CLI::App& app) {
                 "Instead: evaluate a box with a hole, its volume and gradient");
   cmd->add_option("--resolution", args->resolution, "--gradient: grid cells per axis")
       ->check(CLI::Range(8, 512));
-  cmd->add_option("--threads", args->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, args->threads);
   return {cmd, [args] { return args->gradient ? run_gradient_demo(*args) : run_fit_demo(*args); }};
 }
 

@@ -88,7 +88,7 @@ Verb register_eval(CLI::App& app) {
   cmd->add_option("--grad", args->grad,
                   "Write the gradient of the sum of occupancies wrt every parameter as JSON "
                   "('-' for stdout)");
-  cmd->add_option("--threads", args->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, args->threads);
   return {cmd, [args] { return run_eval(*args); }};
 }
 

@@ -126,8 +126,7 @@ Verb register_export(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "always", "never"}));
   cmd->add_option("--report", a->report, "Also write the counts and every leaf's class as JSON");
-  cmd->add_option("--threads", a->options.threads, "Threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, a->options.threads);
   return {cmd, [a] { return run_export(*a); }};
 }
 

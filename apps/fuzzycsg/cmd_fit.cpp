@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -124,23 +125,42 @@ CLI::Option* add_choice(CLI::App* cmd, const std::string& flag, E& target,
 
 }  // namespace
 
-void prepare_output_dir(const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
-    throw InputError(
-        fmt::format("{}: cannot create output directory (a file is there)", dir.string()));
+namespace {
+
+// The settings field a model flag sets ("--near-distance" -> "/sampling/near_distance"), or ""
+// for flags whose value the checkpoint does not keep.
+std::string settings_field(const std::string& flag) {
+  if (flag == "--padding" || flag == "--image-resolution" || flag == "--family") return "";
+  if (flag == "--surface" || flag == "--near" || flag == "--near-distance" || flag == "--sampler") {
+    return flag == "--sampler" ? "/sampling/scheme" : "/sampling/" + flag.substr(2);
   }
-  fs::create_directories(dir, ec);
-  if (ec) {
-    throw InputError(
-        fmt::format("{}: cannot create output directory ({})", dir.string(), ec.message()));
+  std::string key = flag.substr(2);
+  for (char& c : key) {
+    if (c == '-') c = '_';
   }
-  // Fail now, not after hours of work, when nothing can be written there.
-  const fs::path probe = dir / ".fuzzycsg-write-test";
-  io::write_text_file_atomic(probe, "");
-  fs::remove(probe, ec);
+  return "/" + key;
 }
+
+// With --resume, a model flag may repeat the checkpoint's value; a different one is refused.
+void check_resume_flags(const FitJob& job, const Checkpoint& ck) {
+  const nlohmann::json given = nlohmann::json::parse(fit_options_json(job.options));
+  const nlohmann::json fixed = nlohmann::json::parse(fit_options_json(ck.options));
+  for (const std::string& flag : job.given_model_flags) {
+    bool same = false;
+    if (flag == "--family") {
+      same = parse_families(job.family, ck.dim) == ck.options.families;
+    } else if (const std::string field = settings_field(flag); !field.empty()) {
+      const nlohmann::json::json_pointer at(field);
+      same = given.contains(at) && fixed.contains(at) && given[at] == fixed[at];
+    }
+    if (!same) {
+      throw InputError(
+          fmt::format("{}: cannot change with --resume (the checkpoint fixes it)", flag));
+    }
+  }
+}
+
+}  // namespace
 
 int run_fit_job(const FitJob& job) {
   const fs::path out(job.out_dir);
@@ -153,10 +173,7 @@ int run_fit_job(const FitJob& job) {
       throw InputError(fmt::format("{}: checkpoint is for target {}, not {}",
                                    (out / "checkpoint.json").string(), ck.target, job.target));
     }
-    for (const std::string& flag : job.given_model_flags) {
-      throw InputError(
-          fmt::format("{}: cannot change with --resume (the checkpoint fixes it)", flag));
-    }
+    check_resume_flags(job, ck);
     const FitOptions given = options;
     options = ck.options;
     if (job.iters_given) options.iters = given.iters;
@@ -465,7 +482,7 @@ Verb register_fit(CLI::App& app) {
   CLI::Option* time_limit = cmd->add_option("--time-limit", o->time_limit,
                                             "Stop training after this many seconds (0: none)")
                                 ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Threads (0: all cores)")->capture_default_str();
+  add_threads_option(cmd, o->threads);
   cmd->add_option("--checkpoint-every", job->checkpoint_every,
                   "Steps between checkpoints (OUTDIR/checkpoint.json; 0: none)")
       ->capture_default_str();

@@ -115,8 +115,7 @@ Verb register_mesh(CLI::App& app) {
                 "Evaluate the whole tree in every brick (bounds only; the same result)");
   cmd->add_flag("--check", a->check,
                 "Count the edges not shared by exactly two oppositely oriented triangles");
-  cmd->add_option("--threads", a->options.threads, "Threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, a->options.threads);
   return {cmd, [a] { return run_mesh(*a); }};
 }
 

@@ -121,7 +121,7 @@ Verb register_prune(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 28));
   cmd->add_flag("--no-metrics", a->no_metrics, "Skip measuring before and after");
-  cmd->add_option("--threads", a->threads, "Threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, a->threads);
   return {cmd, [a] { return run_prune(*a); }};
 }
 

@@ -314,7 +314,7 @@ Verb register_raster(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--cylinder-segments", a->cylinder_segments, "Sides of cylinders and cones")
       ->capture_default_str();
-  cmd->add_option("--threads", a->threads, "Threads (0: all)")->capture_default_str();
+  add_threads_option(cmd, a->threads);
   cmd->add_flag("-q,--quiet", a->quiet, "No summary line");
   return {cmd, [a] { return run_raster(*a); }};
 }

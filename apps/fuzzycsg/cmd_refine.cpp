@@ -340,7 +340,7 @@ Verb register_refine(CLI::App& app) {
   cmd->add_option("--cylinder-segments", a->cylinder_segments,
                   "Tree models: sides of cylinders and cones")
       ->capture_default_str();
-  cmd->add_option("--threads", a->threads, "Threads (0: all)")->capture_default_str();
+  add_threads_option(cmd, a->threads);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress or summary lines");
   return {cmd, [a, size] {
             a->size_given = size->count() > 0;

@@ -115,8 +115,7 @@ Verb register_render(CLI::App& app) {
   cmd->add_option("--resolution", a->options.resolution, "Grid cells of the mesh rendered")
       ->capture_default_str()
       ->check(CLI::Range(1, kMaxMeshResolution));
-  cmd->add_option("--threads", a->options.threads, "Threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
+  add_threads_option(cmd, a->options.threads);
   return {cmd, [a] { return run_render(*a); }};
 }
 

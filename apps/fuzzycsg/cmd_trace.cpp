@@ -91,7 +91,7 @@ void add_search_options(CLI::App* cmd, SearchArgs& a) {
       ->capture_default_str();
   cmd->add_option("--k", o.local.k, "k: score = EXCESS + UNCOVERED + k * primitives")
       ->capture_default_str();
-  cmd->add_option("--threads", o.threads, "Threads (0: all cores)")->capture_default_str();
+  add_threads_option(cmd, o.threads);
   cmd->add_option("--batch", o.batch,
                   "Iterations optimized in parallel (the result depends on it, not on --threads)")
       ->capture_default_str();
@@ -288,6 +288,7 @@ int run_trace(const TraceArgs& a) {
   ro.threads = options.threads;
   if (a.refine) trace::validate(ro);
   const Bitmap target = trace::read_bitmap(a.bitmap);
+  trace::check_traceable(target, a.bitmap);
   const fs::path out(a.out_dir);
   prepare_output_dir(out);
 
@@ -431,6 +432,8 @@ int run_morph(const MorphArgs& a) {
         "same size)",
         a.second, second.width(), second.height(), a.first, first.width(), first.height()));
   }
+  trace::check_traceable(first, a.first);
+  trace::check_traceable(second, a.second);
   const fs::path out(a.out_dir);
   prepare_output_dir(out);
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fuzzycsg/fit/fit.hpp"
+#include "support.hpp"
 
 namespace fuzzycsg::app {
 
@@ -45,12 +46,5 @@ struct FitJob {
   std::string command_line;
 };
 int run_fit_job(const FitJob& job);
-
-// Creates an output directory (after the inputs are known to be good) and checks that files
-// can be written there; InputError naming it otherwise (also when a file is in the way).
-void prepare_output_dir(const std::filesystem::path& dir);
-
-// The program's command line, joined with spaces (recorded in reports).
-std::string& command_line();
 
 }  // namespace fuzzycsg::app

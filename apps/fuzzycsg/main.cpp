@@ -5,7 +5,11 @@
 
 #include <fmt/core.h>
 
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <CLI/CLI.hpp>
+
+#include <algorithm>
 #include <exception>
 #include <new>
 #include <string>
@@ -14,12 +18,13 @@
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 
-std::string& fuzzycsg::app::command_line() {
-  static std::string line;
-  return line;
-}
-
 int main(int argc, char** argv) {
+  // --threads may ask for more threads than this machine has cores (up to kMaxThreads): oneTBB
+  // then grants them, instead of warning on the terminal that the request is ignored.
+  const tbb::global_control parallelism(
+      tbb::global_control::max_allowed_parallelism,
+      static_cast<std::size_t>(
+          std::max(fuzzycsg::app::kMaxThreads, tbb::info::default_concurrency())));
   for (int i = 0; i < argc; ++i) {
     fuzzycsg::app::command_line() += (i ? " " : "") + std::string(argv[i]);
   }
@@ -38,6 +43,19 @@ int main(int argc, char** argv) {
   verbs.push_back(fuzzycsg::app::register_trace(app));
   verbs.push_back(fuzzycsg::app::register_morph(app));
 
+  // A first word that names no verb is refused by name (CLI11 would only ask for a verb).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const auto& verb : verbs) {
+      known = known || verb.command->check_name(argv[1]);
+      names += (names.empty() ? "" : ", ") + verb.command->get_name();
+    }
+    if (!known) {
+      fmt::print(stderr, "fuzzycsg: error: {}: unknown verb (verbs: {})\n", argv[1], names);
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -24,9 +25,10 @@ namespace fuzzycsg::diffcsg {
 int openscad_fragments(double r, double fn, double fs, double fa) {
   constexpr double kGridFine = 0.00000095367431640625;
   if (r < kGridFine) return 3;
-  if (fn > 0.0) return static_cast<int>(fn >= 3 ? fn : 3);
-  return static_cast<int>(
-      std::ceil(std::fmax(std::fmin(360.0 / fa, r * 2 * std::numbers::pi / fs), 5)));
+  constexpr double kLargest = std::numeric_limits<int>::max();
+  if (fn > 0.0) return static_cast<int>(std::fmin(fn >= 3 ? fn : 3, kLargest));
+  return static_cast<int>(std::fmin(
+      std::ceil(std::fmax(std::fmin(360.0 / fa, r * 2 * std::numbers::pi / fs), 5)), kLargest));
 }
 
 namespace {
@@ -313,6 +315,12 @@ class StatementReader {
     return local;
   }
 
+  void check_fragments(const Statement& st, int fragments) const {
+    if (fragments > kMaxFragments) {
+      fail(st, fmt::format("$fn, $fa, $fs: {} fragments, at most {}", fragments, kMaxFragments));
+    }
+  }
+
   Primitive primitive(const Statement& st) const {
     if (!is_primitive(st)) unsupported(st);
     if (!st.children.empty()) fail(st, "a primitive has no children");
@@ -343,6 +351,7 @@ class StatementReader {
       }
       if (!(p.r > 0)) fail(st, "r: must be positive");
       p.fragments = openscad_fragments(p.r, fn, fs, fa);
+      check_fragments(st, p.fragments);
     } else {
       p.kind = Primitive::Kind::kCylinder;
       p.h = number(st, "h", 1);
@@ -360,6 +369,7 @@ class StatementReader {
       p.r1 = r1;
       p.r2 = r2;
       p.fragments = openscad_fragments(std::max(r1, r2), fn, fs, fa);
+      check_fragments(st, p.fragments);
     }
     return p;
   }

@@ -373,8 +373,9 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
     throw InputError("cylinder segments: must be in [3, 4096]");
   }
   for (const auto& [node, fragments] : options.openscad_fragments) {
-    if (fragments < 3 || fragments > 4096) {
-      throw InputError(fmt::format("{}: fragments of node {}: must be in [3, 4096]", source, node));
+    if (fragments < 3 || fragments > kMaxFragments) {
+      throw InputError(
+          fmt::format("{}: fragments of node {}: must be in [3, {}]", source, node, kMaxFragments));
     }
   }
   bool unified = false;

@@ -98,6 +98,21 @@ void check_declared_counts(const std::string& bytes, const std::string& hint,
   }
 }
 
+// Every vertex of every mesh of the file has finite coordinates.
+void check_finite(const aiScene& scene, const std::string& name) {
+  for (unsigned k = 0; k < scene.mNumMeshes; ++k) {
+    const aiMesh* m = scene.mMeshes[k];
+    if (m == nullptr) continue;
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      const aiVector3D& p = m->mVertices[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+        fail(name, fmt::format("a vertex has a coordinate that is not a finite number ({} {} {})",
+                               p.x, p.y, p.z));
+      }
+    }
+  }
+}
+
 TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& name) {
   const std::string bytes = read_file_bytes(path, name);
   const std::string hint = lowercase_extension(path).substr(1);
@@ -105,9 +120,15 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
   Assimp::Importer importer;
   // Nothing else that moves vertices: no smoothing, no fixing of normals or of winding (the
   // winding is fixed below from the signed volume).
-  const aiScene* scene = importer.ReadFileFromMemory(
-      bytes.data(), bytes.size(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices,
-      hint.c_str());
+  const aiScene* scene =
+      importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_Triangulate, hint.c_str());
+  if (scene == nullptr) {
+    fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
+  }
+  // Vertices are checked before they are joined: joining compares positions, and a NaN would be
+  // merged into a finite vertex instead of reported.
+  check_finite(*scene, name);
+  scene = importer.ApplyPostProcessing(aiProcess_JoinIdenticalVertices);
   if (scene == nullptr) {
     fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
   }

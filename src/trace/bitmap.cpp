@@ -1,5 +1,7 @@
 #include "fuzzycsg/trace/bitmap.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 
@@ -77,6 +79,23 @@ std::vector<std::uint8_t> bitmap_to_bytes(const Bitmap& b) {
     }
   }
   return out;
+}
+
+void check_traceable(const Bitmap& bitmap, const std::string& name) {
+  const std::int64_t set = bitmap.count();
+  const std::int64_t all = std::int64_t{bitmap.width()} * bitmap.height();
+  if (set == 0) {
+    throw InputError(
+        fmt::format("{}: nothing is inside: no dark pixels at {}x{} (inside is "
+                    "darker than half grey)",
+                    name, bitmap.width(), bitmap.height()));
+  }
+  if (set == all) {
+    throw InputError(
+        fmt::format("{}: nothing is outside: no light pixels at {}x{} (outside is "
+                    "at least half grey)",
+                    name, bitmap.width(), bitmap.height()));
+  }
 }
 
 Bitmap read_bitmap(const std::filesystem::path& path) {

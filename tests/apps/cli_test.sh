@@ -117,6 +117,16 @@ if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --prims 4 --iters 200 --batch 256 -
   fi
   expect_error "--prims: cannot change with --resume" \
     "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --prims 8 -q
+  # the checkpoint's own values may be repeated; another value is refused.
+  if "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --iters 300 --prims 4 --lr 0.01 \
+        --seed "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["settings"]["seed"])' "$tmp/fit/checkpoint.json")" \
+        --no-metrics -q >"$tmp/resume2.log" 2>&1; then
+    ok
+  else
+    bad "resume with the checkpoint's own --seed, --prims, --lr: $(tail -1 "$tmp/resume2.log")"
+  fi
+  expect_error "--seed: cannot change with --resume" \
+    "$bin" fit "$tmp/disc.json" -o "$tmp/fit" --resume --seed 12345 -q
 else
   bad "fit: $(tail -5 "$tmp/fit.log")"
 fi
@@ -221,7 +231,7 @@ else
   bad "the default scheme is not appendix-a in report.json"
 fi
 expect_error "--sampler: cannot change with --resume" \
-  "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --sampler release -q
+  "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --sampler appendix-a -q
 expect_error "^fuzzycsg: error: --sampler release: only for pictures \(the target is a tree\)$" \
   "$bin" fit "$tmp/disc.json" -o "$tmp/f4" --sampler release --iters 10 -q
 if [[ ! -e "$tmp/f4/tree.json" && ! -e "$tmp/f4/checkpoint.json" ]]; then ok; else bad "a refused sampler wrote files"; fi
@@ -279,6 +289,15 @@ printf '0 0\n' >"$tmp/short.txt"
 expect_error "short.txt: line 1" "$bin" eval "$tmp/sphere.json" --points "$tmp/short.txt"
 expect_error "--frobnicate" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" --frobnicate
 expect_error "threads" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" --threads -3
+# An unknown verb is named; a thread count past oneTBB's limit is refused in one line by every
+# verb, before any TBB warning can reach the user.
+expect_error "frobnicate: unknown verb \\(verbs: eval, info, " "$bin" frobnicate
+expect_error "--threads: Value 10000 not in range 0 to 256" "$bin" eval "$tmp/sphere.json" \
+  --points "$tmp/pts.txt" --threads 10000
+expect_error "--threads" "$bin" fit "$tmp/sphere.json" -o "$tmp/thr" --threads 10000
+expect_error "--threads" "$bin" mesh "$tmp/sphere.json" -o "$tmp/thr.obj" --threads 10000
+if "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" --threads 256 -o /dev/null 2>"$tmp/err" &&
+    [[ ! -s "$tmp/err" ]]; then ok; else bad "--threads 256 printed: $(cat "$tmp/err")"; fi
 expect_error "cannot write" "$bin" eval "$tmp/sphere.json" --points "$tmp/pts.txt" -o "$tmp/no/such/dir/out.txt"
 
 # A failed run leaves an existing output file untouched and no temporary files behind.
@@ -443,6 +462,14 @@ expect_error "torus.json: root.children\[1\]: primitive type .torus. not support
 expect_error "--camera" "$bin" raster "$tmp/sphere.json" -o "$tmp/r5.png" --camera 0,0
 expect_error "3D" "$bin" raster "$src/examples/cart_2d.json" -o "$tmp/r3.png"
 expect_error "--size" "$bin" raster "$src/examples/box_with_hole.json" -o "$tmp/r4.png" --size 0
+# One limit on OpenSCAD's fragments, refused at once by every verb that reads .csg.
+printf 'difference() {\n  cube(size = 2, center = true);\n  sphere($fn = 1000000000, r = 1);\n}\n' \
+  >"$tmp/fn.csg"
+expect_error "fn.csg: line 3: sphere: .fn, .fa, .fs: 1000000000 fragments, at most 4096" \
+  "$bin" raster "$tmp/fn.csg" -o "$tmp/r6.png"
+expect_error "fn.csg: line 3: sphere: .fn, .fa, .fs: 1000000000 fragments, at most 4096" \
+  "$bin" refine "$tmp/fn.csg" --target "$tmp/fn.csg" -o "$tmp/r7"
+[[ -e "$tmp/r6.png" || -e "$tmp/r7" ]] && bad "a refused .csg left output" || ok
 if [[ ! -e "$tmp/r2.png" && ! -e "$tmp/r3.png" && ! -e "$tmp/r4.png" && ! -e "$tmp/r5.png" ]]; then ok; else bad "raster error left a file"; fi
 
 # refine: a program's parameters fitted to another's renderings.
@@ -500,7 +527,7 @@ expect_error "no view sees the model" "$bin" refine "$tmp/prog.json" --target "$
   -o "$tmp/ref12"
 [[ -e "$tmp/ref12" ]] && bad "refine with blind cameras left a directory" || ok
 # An OpenSCAD model refined against a mesh of itself moved: its .csg read as a tree.
-data="$src/../shared/data/scad/Old/example004"
+data="$src/tests/data/scad/Old/example004"
 if [[ -f "$data.openscad.csg" ]]; then
   sed "s/r = 20)/r = 22)/" "$data.openscad.csg" >"$tmp/ex4.csg"
   if "$bin" refine "$tmp/ex4.csg" --target "$data.ref.off" -o "$tmp/ref9" --size 48 --views 4 \

@@ -5,7 +5,7 @@
 set -u
 bin=$1
 src=$2
-glyphs="$src/../shared/data/glyphs"
+glyphs="$src/tests/data/glyphs"
 source "$(dirname "$0")/lib.sh"
 
 # check_report FILE: score = excess + uncovered + k * primitives, and the effort's numbers
@@ -60,7 +60,7 @@ glyph="$glyphs/DejaVuSans-Bold_U002B_plus.png"
 small=(--population 12 --max-trees 40 --patience 40 --refocus 10 --initial-size 3 --iterations 10
        --batch 4)
 if [[ ! -f "$glyph" ]]; then
-  bad "no glyph at $glyph (the shared data)"
+  bad "no glyph at $glyph (tests/data)"
 else
   # trace: every output, the report consistent, the tree readable by the other verbs.
   if "$bin" trace "$glyph" -o "$tmp/t" "${small[@]}" --threads 2 --seed 3 --k 20 >"$tmp/t.log" 2>&1; then
@@ -150,6 +150,8 @@ png(d + "/colour.png", 40, 30, lambda x, y: [120, 0, 30] if (x + 0.5 - 20) ** 2 
 png(d + "/disc.png", 40, 30, lambda x, y: [0 if (x + 0.5 - 15) ** 2 + (y + 0.5 - 15) ** 2 < 100 else 255])
 png(d + "/bar.png", 40, 30, lambda x, y: [0 if 15 <= x < 36 and 8 <= y < 23 else 255])
 png(d + "/tall.png", 30, 40, lambda x, y: [255])
+png(d + "/blank.png", 40, 30, lambda x, y: [255])
+png(d + "/dark.png", 40, 30, lambda x, y: [0])
 PY
 head -c 60 "$tmp/disc.png" >"$tmp/corrupt.png"
 # A PNG header claiming 10000 x 10000 pixels.
@@ -158,21 +160,28 @@ printf '\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x27\x10\x00\x00\x27\x10\x0
 tiny=(--population 6 --max-trees 12 --patience 12 --refocus 4 --initial-size 2 --iterations 5
       --threads 2)
 
-# Degenerate but valid pictures give a result and a consistent report.
-for name in one white black colour; do
-  if "$bin" trace "$tmp/$name.png" -o "$tmp/out_$name" "${tiny[@]}" -q 2>"$tmp/err"; then
-    if out=$(check_report "$tmp/out_$name/report.json"); then ok; else bad "trace $name.png report: $out"; fi
-  else
-    bad "trace $name.png: $(cat "$tmp/err")"
-  fi
+# Pictures with nothing to trace are refused as `fit` refuses them: one line, exit 2, nothing
+# written (a 1x1 picture is all dark or all light).
+expect_error "one.png: nothing is outside: no light pixels at 1x1" "$bin" trace "$tmp/one.png" \
+  -o "$tmp/out_one" "${tiny[@]}"
+expect_error "white.png: nothing is inside: no dark pixels at 24x16" "$bin" trace "$tmp/white.png" \
+  -o "$tmp/out_white" "${tiny[@]}"
+expect_error "black.png: nothing is outside: no light pixels at 24x16" "$bin" trace \
+  "$tmp/black.png" -o "$tmp/out_black" "${tiny[@]}"
+expect_error "blank.png: nothing is inside" "$bin" morph "$tmp/disc.png" "$tmp/blank.png" \
+  -o "$tmp/out_morph_white" "${tiny[@]}"
+expect_error "dark.png: nothing is outside" "$bin" morph "$tmp/dark.png" "$tmp/disc.png" \
+  -o "$tmp/out_morph_black" "${tiny[@]}"
+for d in out_one out_white out_black out_morph_white out_morph_black; do
+  [[ -e "$tmp/$d" ]] && bad "a refused picture left $d" || ok
 done
-# The empty picture: the tree covers nothing; the full one: something.
-if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["excess"] == 0 and r["uncovered"] == 0' \
-    "$tmp/out_white/report.json" 2>/dev/null; then ok; else bad "empty bitmap: not an empty result"; fi
-if grep -q '"stopped_by": "empty"' "$tmp/out_white/report.json"; then ok; else bad "empty bitmap: stopped_by"; fi
-if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); assert r["bitmap"]["pixels_set"] == 24 * 16
-assert r["uncovered"] < 24 * 16' "$tmp/out_black/report.json" 2>/dev/null; then ok; else
-  bad "full bitmap: nothing covered"
+if "$bin" fit "$tmp/white.png" -o "$tmp/fit_white" --iters 1 -q 2>"$tmp/err"; then
+  bad "fit accepted white.png"
+elif grep -q "nothing is inside" "$tmp/err"; then ok; else bad "fit white.png: $(cat "$tmp/err")"; fi
+if "$bin" trace "$tmp/colour.png" -o "$tmp/out_colour" "${tiny[@]}" -q 2>"$tmp/err"; then
+  if out=$(check_report "$tmp/out_colour/report.json"); then ok; else bad "trace colour.png report: $out"; fi
+else
+  bad "trace colour.png: $(cat "$tmp/err")"
 fi
 # The colour picture is thresholded: the dark disc is set, the light background clear.
 if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); n=r["bitmap"]["pixels_set"]; assert 300 < n < 600, n' \

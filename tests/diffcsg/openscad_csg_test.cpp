@@ -1,13 +1,14 @@
-// OpenSCAD's flattened .csg models as meshed CSG: the shared examples parse, their spheres and
-// cylinders are tessellated as OpenSCAD does, and drawn by rays they match OpenSCAD's own
-// CGAL mesh of the same model (its .ref.off) drawn the same way; unsupported nodes and broken
-// text are refused naming the line.
+// OpenSCAD's flattened .csg models as meshed CSG: the examples of tests/data parse, their spheres
+// and cylinders are tessellated as OpenSCAD does, and drawn by rays they match OpenSCAD's own CGAL
+// mesh of the same model (its .ref.off) drawn the same way; unsupported nodes and broken text are
+// refused naming the line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "fuzzycsg/core/error.hpp"
@@ -17,7 +18,7 @@
 namespace fuzzycsg::diffcsg {
 namespace {
 
-const std::filesystem::path kScad = std::filesystem::path(FUZZYCSG_SHARED_DATA_DIR) / "scad";
+const std::filesystem::path kScad = std::filesystem::path(FUZZYCSG_TEST_DATA_DIR) / "scad";
 
 // An OFF mesh as a one-primitive scene (polygons as fans), normals turned outward.
 Scene read_off(const std::filesystem::path& path) {
@@ -61,6 +62,9 @@ TEST(DiffcsgOpenscad, FragmentsAsOpenscadCountsThem) {
   EXPECT_EQ(openscad_fragments(3, 0, 2, 12), 10);  // 2 pi 3 / 2 = 9.42
   EXPECT_EQ(openscad_fragments(1e-9, 0, 2, 12), 3);
   EXPECT_EQ(openscad_fragments(5, 2, 2, 12), 3);
+  // Saturated, never an overflowing conversion.
+  EXPECT_EQ(openscad_fragments(1, 1e300, 2, 12), std::numeric_limits<int>::max());
+  EXPECT_EQ(openscad_fragments(1e300, 0, 1e-300, 1e-300), std::numeric_limits<int>::max());
 }
 
 TEST(DiffcsgOpenscad, TheExamplesMatchOpenscadsOwnMeshes) {
@@ -133,6 +137,21 @@ TEST(DiffcsgOpenscad, UnsupportedNodesAndBrokenTextAreRefusedNamingTheLine) {
   refused("sphere(r = -1);", "r: must be positive");
   refused("cube(size = 1)", "expected ';'");
   refused("group() { }", "no primitives");
+  // One limit on fragments for both readers, before any tessellation is made.
+  refused("union() {\n  sphere($fn = 1000000000, r = 1);\n}\n",
+          "m.csg: line 2: sphere: $fn, $fa, $fs: 1000000000 fragments, at most 4096");
+  refused("cylinder($fn = 5000, h = 1, r = 1);", "line 1: cylinder: $fn, $fa, $fs: 5000 fragments");
+  refused("sphere($fa = 1e-9, $fs = 1e-9, r = 1);", "fragments, at most 4096");
+  try {
+    parse_openscad_csg_tree("sphere($fn = 1e12, r = 1);", "t.csg");
+    ADD_FAILURE() << "the tree reader accepted 1e12 fragments";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("t.csg: line 1: sphere: $fn, $fa, $fs: 2147483647 "
+                                         "fragments, at most 4096"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(parse_openscad_csg("sphere($fn = 4096, r = 1);", "m.csg"));
   refused("%cube(1);", "no primitives");
   EXPECT_EQ(parse_openscad_csg("*sphere(1); #cube(1); !cylinder(h = 1, r = 1);", "m.csg")
                 .primitives.size(),

@@ -196,9 +196,9 @@ TEST(MeshTarget, SphereAgainstExactAndAnalyticVolume) {
   }
 }
 
-// Each CAD mesh of the shared data: the inside fraction of uniform points against the exact
+// Each CAD mesh of tests/data: the inside fraction of uniform points against the exact
 // volume of the polygon mesh read here, and the describe() line.
-TEST(MeshTarget, CadMeshesFromSharedData) {
+TEST(MeshTarget, CadMeshes) {
   const std::map<std::string, int> triangles = {
       {"cgal_P.off", 52},        {"cgal_corner.off", 28},     {"cgal_couplingdown.off", 3714},
       {"cgal_cross.off", 76},    {"cgal_fandisk.off", 12946}, {"cgal_hole.off", 40},
@@ -214,10 +214,11 @@ TEST(MeshTarget, CadMeshesFromSharedData) {
   }
 }
 
-// The mesh of Liu et al.'s 3D experiment: its largest half-extent after normalisation, the
-// inside fraction, boundary samples on the surface with outward normals, and speed.
-TEST(MeshTarget, LiuTable) {
-  const std::string path = data_file("liu2024/3D_table_51016.obj");
+// A CAD part read from OBJ (the coupling, genus 9, with thin walls between its holes): its
+// largest half-extent after normalisation, the inside fraction, boundary samples on the surface
+// with outward normals, and speed.
+TEST(MeshTarget, ObjCoupling) {
+  const std::string path = data_file("meshes/cad/cgal_couplingdown.obj");
   const PolyMesh mesh = normalised(read_obj(path), 0.2);
   const auto t0 = std::chrono::steady_clock::now();
   const auto target = load_target(path, TargetOptions{0.2, 256, 2});
@@ -229,7 +230,7 @@ TEST(MeshTarget, LiuTable) {
   const auto t2 = std::chrono::steady_clock::now();
   const double load_s = std::chrono::duration<double>(t1 - t0).count();
   const double label_s = std::chrono::duration<double>(t2 - t1).count();
-  std::printf("3D_table_51016.obj on 2 threads: load %.3f s, 100000 labels %.3f s\n", load_s,
+  std::printf("cgal_couplingdown.obj on 2 threads: load %.3f s, 100000 labels %.3f s\n", load_s,
               label_s);
 #if !defined(__SANITIZE_ADDRESS__)
   EXPECT_LT(load_s + label_s, 1.0);
@@ -328,7 +329,7 @@ TEST(MeshTarget, SmallHoleIsHarmless) {
   EXPECT_NEAR(inside_fraction(*target, n, 8), exact, tolerance(exact, n));
 }
 
-// The two open meshes of ../shared/data/meshes/defective:
+// The two open meshes of tests/data/meshes/defective:
 // - cgal_blade.off is a tube (a turbine blade's skin, 129 long, a 10 x 0.65 profile) open at
 //   both ends. Rays leave through the ends only from points near them, or along the tube: the
 //   mesh loads, and its inside fraction is the volume of the tube closed by two flat caps
@@ -431,6 +432,14 @@ TEST(MeshTarget, BadFiles) {
   nan_off.replace(nan_off.find("\n0 0 0\n"), 7, "\nnan 0 0\n");
   expect_error(dir.write("nan.off", nan_off),
                "a vertex has a coordinate that is not a finite number");
+  // A NaN that joining vertices would merge into the finite vertex beside it, in every format.
+  const std::string tetra = "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 nan\n";
+  const std::string faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  expect_error(dir.write("nan_tetra.off", "OFF\n" + tetra + faces),
+               "nan_tetra.off: a vertex has a coordinate that is not a finite number (0 0 nan)");
+  expect_error(dir.write("nan_tetra.obj",
+                         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"),
+               "nan_tetra.obj: a vertex has a coordinate that is not a finite number");
   PolyMesh huge = cube;
   huge.vertices[3][1] = 1e300;  // infinite as a float
   expect_error(dir.write("inf.stl", to_stl_binary(huge)),

@@ -38,7 +38,8 @@ struct OpenscadModel {
 OpenscadModel read_openscad_csg_tree(const std::filesystem::path& path);
 OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source);
 
-// OpenSCAD's get_fragments_from_r.
+// OpenSCAD's get_fragments_from_r, saturated at the largest int. The readers above refuse a
+// primitive with more than kMaxFragments, naming its line.
 int openscad_fragments(double r, double fn, double fs, double fa);
 
 }  // namespace fuzzycsg::diffcsg

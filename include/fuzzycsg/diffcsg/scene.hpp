@@ -72,6 +72,10 @@ TriMesh unit_cylinder(int segments);
 // of latitude, capped by polygons.
 TriMesh openscad_sphere(int fragments);
 
+// The most fragments a sphere or cylinder may have (a sphere of n fragments has about n^2
+// triangles): more is refused, by the .csg readers and by scene_from_tree alike.
+inline constexpr int kMaxFragments = 4096;
+
 struct TessellationOptions {
   int sphere_subdivisions = 2;
   int cylinder_segments = 16;

@@ -69,6 +69,11 @@ class Bitmap {
 // pictures (more than 8192^2 pixels).
 Bitmap read_bitmap(const std::filesystem::path& path);
 
+// A picture worth tracing has a set (dark) pixel and a clear (light) one, as `fit` asks of its
+// pictures; InputError "NAME: nothing is inside: ..." or "NAME: nothing is outside: ..."
+// otherwise (so also for a 1x1 picture). search() itself accepts such bitmaps.
+void check_traceable(const Bitmap& bitmap, const std::string& name);
+
 // From one byte per pixel (non-zero: set), row-major, row 0 at the top.
 Bitmap bitmap_from_bytes(std::span<const std::uint8_t> inside, int width, int height);
 std::vector<std::uint8_t> bitmap_to_bytes(const Bitmap& b);

@@ -1,0 +1,24 @@
+#pragma once
+// What every verb of the program shares: the command line as given, output directories, and
+// the options spelled the same by every verb.
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <string>
+
+namespace fuzzycsg::app {
+
+// The program's command line, joined with spaces (recorded in reports).
+std::string& command_line();
+
+// Creates an output directory (after the inputs are known to be good) and checks that files
+// can be written there; InputError naming it otherwise (also when a file is in the way).
+void prepare_output_dir(const std::filesystem::path& dir);
+
+// The most threads a verb accepts: oneTBB's own limit on the threads of one arena.
+inline constexpr int kMaxThreads = 256;
+
+// --threads N (0: all cores), checked against kMaxThreads.
+CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help = "");
+
+}  // namespace fuzzycsg::app
