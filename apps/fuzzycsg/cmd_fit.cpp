@@ -20,6 +20,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/fit/fit.hpp"
 #include "fuzzycsg/fit/option_names.hpp"
 #include "fuzzycsg/fit/plot.hpp"
@@ -238,8 +239,12 @@ int run_fit_job(const FitJob& job) {
   ctx.command_line = job.command_line;
   ctx.threads = options.threads;
   const std::string report = fit_report_json(r, options, ctx);
-  const std::string trained = io::write_tree_string(r.trained);
-  const std::string pruned = io::write_tree_string(r.pruned);
+  // The trees files, and the mesh, in the target's own coordinates (a mesh's); the pictures
+  // and plots are drawn in the normalised box, as the training saw it.
+  const Similarity to_target = target->normalisation().inverse();
+  const Tree pruned_tree = transformed(r.pruned, to_target);
+  const std::string trained = io::write_tree_string(transformed(r.trained, to_target));
+  const std::string pruned = io::write_tree_string(pruned_tree);
   const std::string plot = loss_curve_png(
       r.state.curve, fmt::format("{} {} x{} - {}", fs::path(target_path).filename().string(),
                                  operator_mode_name(options.ops), options.prims, "training loss"));
@@ -272,15 +277,15 @@ int run_fit_job(const FitJob& job) {
   mo.threads = options.threads;
   std::string surface;
   if (dim == 3) {
-    const TriangleMesh mesh = extract_mesh(r.pruned, r.pruned.params.values(), mo);
+    const TriangleMesh mesh = extract_mesh(pruned_tree, pruned_tree.params.values(), mo);
     if (!mesh.triangles.empty()) {
       write_mesh(mesh, out / "mesh.obj");
       surface = ", mesh.obj";
     }
   } else {
-    const Contours contours = extract_contours(r.pruned, r.pruned.params.values(), mo);
+    const Contours contours = extract_contours(pruned_tree, pruned_tree.params.values(), mo);
     if (!contours.loops.empty()) {
-      write_contours(contours, r.pruned, out / "contours.svg");
+      write_contours(contours, pruned_tree, out / "contours.svg");
       surface = ", contours.svg";
     }
   }

@@ -15,6 +15,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/fit/metrics.hpp"
 #include "fuzzycsg/fit/prune.hpp"
 #include "fuzzycsg/io/points.hpp"
@@ -40,16 +41,20 @@ struct PruneArgs {
 };
 
 int run_prune(const PruneArgs& a) {
-  const Tree tree = io::read_tree_file(a.tree);
+  const Tree given = io::read_tree_file(a.tree);
   TargetOptions to;
   to.padding = a.padding;
   to.image_resolution = a.image_resolution;
   to.threads = a.threads;
   const std::unique_ptr<Target> target = load_target(a.target, to);
-  if (target->dim() != tree.dim) {
-    throw InputError(fmt::format("{}: the tree is {}D but the target {} is {}D", a.tree, tree.dim,
+  if (target->dim() != given.dim) {
+    throw InputError(fmt::format("{}: the tree is {}D but the target {} is {}D", a.tree, given.dim,
                                  a.target, target->dim()));
   }
+  // The tree is in the target's coordinates (as `fit` writes it); pruning judges it in the
+  // target's normalised box, and the result goes back.
+  const Similarity normalisation = target->normalisation();
+  const Tree tree = transformed(given, normalisation);
   if (!(a.threshold >= 0)) throw InputError("--threshold: must be >= 0");
 
   Rng rng(a.seed);
@@ -66,7 +71,7 @@ int run_prune(const PruneArgs& a) {
   po.max_primitives = a.max_primitives;
   PruneReport report;
   const Tree pruned = prune(snapped, points, po, &report);
-  const std::string text = io::write_tree_string(pruned);
+  const std::string text = io::write_tree_string(transformed(pruned, normalisation.inverse()));
 
   fmt::print("prune: {}+{} -> {}+{} nodes (primitives+operators)\n", report.primitives_before,
              report.operators_before, report.primitives_after, report.operators_after);

@@ -31,8 +31,7 @@ void prepare_output_dir(const std::filesystem::path& dir) {
 }
 
 CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help) {
-  return cmd
-      ->add_option("--threads", threads, help.empty() ? "Threads (0: all cores)" : help)
+  return cmd->add_option("--threads", threads, help.empty() ? "Threads (0: all cores)" : help)
       ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
 }

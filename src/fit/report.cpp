@@ -306,6 +306,14 @@ std::string fit_report_json(const FitResult& r, const FitOptions& o, const Repor
     j["target"]["kind"] = ctx.target->kind();
     j["target"]["dim"] = ctx.target->dim();
     j["target"]["description"] = ctx.target->describe();
+    // Training ran in the normalised box x_norm = scale * x + translate (x in the target's own
+    // coordinates); the trees written are mapped back to the target's coordinates.
+    const Similarity n = ctx.target->normalisation();
+    j["target"]["normalisation"] = {
+        {"scale", n.scale},
+        {"translate",
+         std::vector<double>(n.translate.begin(), n.translate.begin() + ctx.target->dim())},
+        {"trees", "target coordinates"}};
   }
   j["settings"] = options_to_json(o);
   j["seed"] = o.seed;

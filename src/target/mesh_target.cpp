@@ -198,9 +198,10 @@ void compact(TriangleMesh& mesh, const std::string& name) {
   mesh.vertices = std::move(used);
 }
 
-// Centre of the bounding box to the origin, then the largest |coordinate| to 1 - padding: the
+// Centre of the bounding box to the origin, then the largest |coordinate| to 1 - padding (the
+// similarity returned, up to rounding: x -> scale x - scale centre): the
 // normalisation of the reference release (Liu et al. 2024, utils/normalize_to_unit_box.py).
-void normalise(TriangleMesh& mesh, double padding, const std::string& name) {
+Similarity normalise(TriangleMesh& mesh, double padding, const std::string& name) {
   std::array<double, 3> lo, hi;
   lo.fill(std::numeric_limits<double>::infinity());
   hi.fill(-std::numeric_limits<double>::infinity());
@@ -224,6 +225,7 @@ void normalise(TriangleMesh& mesh, double padding, const std::string& name) {
       mesh.vertices[v + i] = (mesh.vertices[v + i] - centre[i]) * scale;
     }
   }
+  return {{-centre[0] * scale, -centre[1] * scale, -centre[2] * scale}, scale};
 }
 
 // Ray directions for the inside test: a Fibonacci spiral of kRays points on the sphere, turned
@@ -284,8 +286,10 @@ struct SceneDeleter {
 
 class MeshTarget final : public Target {
  public:
-  MeshTarget(std::string file, TriangleMesh mesh, double padding, int threads)
+  MeshTarget(std::string file, TriangleMesh mesh, double padding, const Similarity& normalisation,
+             int threads)
       : file_(std::move(file)),
+        normalisation_(normalisation),
         triangles_(std::move(mesh.triangles)),
         directions_(ray_directions()),
         arena_(threads) {
@@ -333,6 +337,7 @@ class MeshTarget final : public Target {
 
   int dim() const override { return 3; }
   std::string kind() const override { return "mesh"; }
+  Similarity normalisation() const override { return normalisation_; }
   std::string describe() const override {
     return fmt::format("mesh {}: {} triangles", std::filesystem::path(file_).filename().string(),
                        triangles_.size() / 3);
@@ -482,6 +487,7 @@ class MeshTarget final : public Target {
   }
 
   std::string file_;
+  Similarity normalisation_;
   std::vector<float> vertices_;
   std::vector<std::uint32_t> triangles_;
   std::vector<float> normals_;           // per triangle, unit, outward
@@ -499,8 +505,8 @@ std::unique_ptr<Target> load_mesh(const std::filesystem::path& path, const std::
                                   const TargetOptions& options) {
   TriangleMesh mesh = read_mesh(path, name);
   compact(mesh, name);
-  normalise(mesh, options.padding, name);
-  return std::make_unique<MeshTarget>(name, std::move(mesh), options.padding,
+  const Similarity normalisation = normalise(mesh, options.padding, name);
+  return std::make_unique<MeshTarget>(name, std::move(mesh), options.padding, normalisation,
                                       thread_count(options.threads));
 }
 

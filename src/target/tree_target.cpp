@@ -43,6 +43,9 @@ class TreeTarget final : public Target {
 
   int dim() const override { return dim_; }
   std::string kind() const override { return "tree"; }
+  Similarity normalisation() const override {
+    return {{-centre_[0] / half_, -centre_[1] / half_, -centre_[2] / half_}, 1.0 / half_};
+  }
   std::string describe() const override {
     const TreeCounts c = count(tree_);
     return fmt::format("tree {}: {}D, {} primitive{}, {} operator{}",

@@ -445,6 +445,41 @@ expect_error "field.json: root.children\[0\].*radus" "$bin" export "$tmp/field.j
 expect_error "--fn" "$bin" export "$tmp/sphere.json" -o "$tmp/y.scad" --fn 2
 if [[ ! -e "$tmp/x.stl" && ! -e "$tmp/y.scad" && ! -e "$tmp/y.txt" ]]; then ok; else bad "export error left a file"; fi
 
+# fit on a mesh far from the origin: the trees and the mesh are written in the mesh's own
+# coordinates, the normalisation in report.json; prune takes the tree back to the target's box.
+python3 - "$tmp/offbox.off" <<'PY'
+import sys
+lo, hi = (10, 20, -1), (14, 22, 0)
+v = [(x, y, z) for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])]
+f = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+open(sys.argv[1], "w").write("OFF\n8 6 0\n" + "".join("%g %g %g\n" % p for p in v) +
+                             "".join("4 %d %d %d %d\n" % q for q in f))
+PY
+printf '12 21 -0.5\n0 0 0\n' >"$tmp/offpts.txt"
+if "$bin" fit "$tmp/offbox.off" -o "$tmp/offfit" --family box --prims 2 --iters 600 --threads 2 -q \
+      --metric-points 20000 2>"$tmp/err"; then
+  for t in tree.json tree_pruned.json; do
+    if "$bin" eval "$tmp/offfit/$t" --points "$tmp/offpts.txt" -o "$tmp/offocc.txt" &&
+        awk 'NR == 1 { a = $1 } NR == 2 { b = $1 } END { exit !(a > 0.5 && b < 0.5) }' \
+          "$tmp/offocc.txt"; then ok; else bad "fit $t not in the mesh's coordinates: $(cat "$tmp/offocc.txt")"; fi
+  done
+  if python3 -c 'import json,sys; n=json.load(open(sys.argv[1]))["target"]["normalisation"]
+assert abs(n["scale"] - 0.4) < 1e-12 and max(abs(a - b) for a, b in zip(n["translate"], [-4.8, -8.4, 0.2])) < 1e-9
+d=json.load(open(sys.argv[2]))["domain"]; assert abs(d["min"][0] - 9.5) < 1e-9 and abs(d["max"][1] - 23.5) < 1e-9' \
+      "$tmp/offfit/report.json" "$tmp/offfit/tree_pruned.json"; then ok; else bad "fit normalisation in report.json"; fi
+  if awk '/^v / { if ($2 < 9.4 || $2 > 14.6 || $3 < 18.4 || $3 > 23.6) bad = 1; n++ }
+      END { exit !(n > 0 && !bad) }' "$tmp/offfit/mesh.obj"; then ok; else bad "fit mesh.obj not in the mesh's coordinates"; fi
+  if "$bin" prune "$tmp/offfit/tree.json" --target "$tmp/offbox.off" -o "$tmp/offpruned.json" \
+        --no-metrics >/dev/null && "$bin" eval "$tmp/offpruned.json" --points "$tmp/offpts.txt" -o "$tmp/offocc.txt" &&
+      awk 'NR == 1 { a = $1 } NR == 2 { b = $1 } END { exit !(a > 0.5 && b < 0.5) }' "$tmp/offocc.txt"; then
+    ok
+  else
+    bad "prune of a tree in the mesh's coordinates: $(cat "$tmp/offocc.txt")"
+  fi
+else
+  bad "fit offbox.off: $(cat "$tmp/err")"
+fi
+
 # raster: a 3D tree of meshed primitives as a PNG; trees it cannot draw refused in one line.
 if "$bin" raster "$src/examples/box_with_hole.json" -o "$tmp/r.png" --size 64 -q &&
   [[ "$(head -c 8 "$tmp/r.png" | od -An -tx1 | tr -d ' \n')" == "89504e470d0a1a0a" ]]; then

@@ -437,9 +437,10 @@ TEST(MeshTarget, BadFiles) {
   const std::string faces = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
   expect_error(dir.write("nan_tetra.off", "OFF\n" + tetra + faces),
                "nan_tetra.off: a vertex has a coordinate that is not a finite number (0 0 nan)");
-  expect_error(dir.write("nan_tetra.obj",
-                         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"),
-               "nan_tetra.obj: a vertex has a coordinate that is not a finite number");
+  expect_error(
+      dir.write("nan_tetra.obj",
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n"),
+      "nan_tetra.obj: a vertex has a coordinate that is not a finite number");
   PolyMesh huge = cube;
   huge.vertices[3][1] = 1e300;  // infinite as a float
   expect_error(dir.write("inf.stl", to_stl_binary(huge)),
@@ -493,6 +494,37 @@ TEST(MeshTarget, BadFiles) {
                "the header declares 2000000001 elements");
   expect_error(dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n"),
                "no triangles");
+}
+
+// The normalisation maps the mesh's own coordinates to the box it is labelled in: the bounding
+// box centred, its longest side to 2 (1 - padding); a tree file's domain likewise; pictures none.
+TEST(MeshTarget, NormalisationMapsTheMeshIntoTheBox) {
+  TempDir dir;
+  const std::string path = dir.write("far.off", to_off(box({10, 20, -1}, {14, 22, 0})));
+  const auto target = load_target(path, TargetOptions{0.2, 256, 1});
+  const Similarity n = target->normalisation();
+  EXPECT_NEAR(n.scale, 0.4, 1e-15);
+  const auto lo = n.apply({10, 20, -1}), hi = n.apply({14, 22, 0});
+  EXPECT_NEAR(lo[0], -0.8, 1e-12);
+  EXPECT_NEAR(hi[0], 0.8, 1e-12);
+  EXPECT_NEAR(lo[1], -0.4, 1e-12);
+  EXPECT_NEAR(hi[2], 0.2, 1e-12);
+  // Labels agree: the mesh's centre maps inside, a corner beyond the box outside.
+  const auto c = n.apply({12, 21, -0.5}), out = n.apply({13.9, 21.9, 0.5});
+  std::vector<float> occ(2);
+  target->occupancy(std::vector<float>{float(c[0]), float(c[1]), float(c[2]), float(out[0]),
+                                       float(out[1]), float(out[2])},
+                    occ);
+  EXPECT_EQ(occ[0], 1.0f);
+  EXPECT_EQ(occ[1], 0.0f);
+
+  const std::string tree = dir.write("t.json", R"({"format": "fuzzycsg-tree", "version": 1,
+    "dim": 2, "domain": {"min": [2, 0], "max": [6, 2]},
+    "root": {"type": "circle", "radius": 1, "translate": [4, 1], "step": "crisp"}})");
+  const Similarity t = load_target(tree)->normalisation();
+  EXPECT_NEAR(t.scale, 0.5, 1e-15);
+  EXPECT_NEAR(t.apply({4, 1, 0})[0], 0.0, 1e-15);
+  EXPECT_NEAR(t.apply({6, 1, 0})[0], 1.0, 1e-15);
 }
 
 }  // namespace

@@ -42,6 +42,8 @@
 #include <string_view>
 #include <vector>
 
+#include "fuzzycsg/core/transform.hpp"
+
 namespace fuzzycsg {
 
 using Rng = std::mt19937_64;
@@ -55,6 +57,12 @@ class Target {
   virtual std::string describe() const = 0;
   // "mesh", "image" or "tree".
   virtual std::string kind() const = 0;
+
+  // The map from the target's own coordinates (a mesh's, a tree file's) to the normalised
+  // domain in which it is sampled and labelled. A tree fitted there is given back in the
+  // target's coordinates by transformed(tree, normalisation().inverse()). Pictures have no
+  // coordinates of their own: the identity.
+  virtual Similarity normalisation() const { return {}; }
 
   // Crisp occupancy, 1 inside and 0 outside, at n points (row-major n x dim, normalised
   // coordinates). Thread-safe; may run in parallel internally.
