@@ -73,6 +73,11 @@ int main(int argc, char** argv) {
     for (const auto& verb : verbs) {
       if (verb.command->parsed()) return verb.run();
     }
+  } catch (const fuzzycsg::OptionError& e) {
+    // The library names its option fields; the user knows them as flags.
+    fmt::print(stderr, "fuzzycsg: error: {}: {}\n", fuzzycsg::app::flag_for(e.field()),
+               e.problem());
+    return 2;
   } catch (const fuzzycsg::InputError& e) {
     fmt::print(stderr, "fuzzycsg: error: {}\n", e.what());
     return 2;

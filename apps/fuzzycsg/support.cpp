@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <functional>
+#include <map>
+
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/points.hpp"
 
@@ -28,6 +31,21 @@ void prepare_output_dir(const std::filesystem::path& dir) {
   const fs::path probe = dir / ".fuzzycsg-write-test";
   io::write_text_file_atomic(probe, "");
   fs::remove(probe, ec);
+}
+
+std::string flag_for(const std::string& field) {
+  static const std::map<std::string, std::string, std::less<>> kNamed = {
+      {"families", "--family"},
+      {"metrics.points", "--metric-points"},
+      {"sampling", "--surface, --near"},
+      {"sampling.scheme", "--sampler"},
+  };
+  if (const auto it = kNamed.find(field); it != kNamed.end()) return it->second;
+  std::string flag = "--" + field.substr(field.rfind('.') + 1);
+  for (char& c : flag) {
+    if (c == '_') c = '-';
+  }
+  return flag;
 }
 
 CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help) {

@@ -15,6 +15,11 @@ std::string& command_line();
 // can be written there; InputError naming it otherwise (also when a file is in the way).
 void prepare_output_dir(const std::filesystem::path& dir);
 
+// The flag that sets a library option field (OptionError::field): "--" and the field's last
+// part with dashes ("type_search_every" -> "--type-search-every"), except where the program
+// names it otherwise ("metrics.points" -> "--metric-points", "families" -> "--family").
+std::string flag_for(const std::string& field);
+
 // The most threads a verb accepts: oneTBB's own limit on the threads of one arena.
 inline constexpr int kMaxThreads = 256;
 

@@ -250,7 +250,7 @@ int initialise_from_target(Tree& tree, const Target& target, const TargetInitOpt
   std::vector<Ball> balls =
       cover_with_balls(target, distance, static_cast<int>(leaves.size()), rng, o.candidates);
   if (balls.empty()) {
-    throw InputError("--init target: found no point inside the target to start from");
+    throw OptionError("init", "target: found no point inside the target to start from");
   }
   order_for_tree(balls, tree.dim);
 

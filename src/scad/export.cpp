@@ -877,12 +877,12 @@ std::string report_json(const ExportReport& r) {
 std::string export_scad(const Tree& tree, std::span<const double> params,
                         const ExportOptions& options, ExportReport* report) {
   if (options.fn < 3 || options.fn > 10000) {
-    throw InputError(fmt::format("--fn: must be in [3, 10000] (got {})", options.fn));
+    throw OptionError("fn", fmt::format("must be in [3, 10000] (got {})", options.fn));
   }
   const int max_resolution = kMaxMeshResolution - 4;
   if (options.resolution < 2 || options.resolution > max_resolution) {
-    throw InputError(fmt::format("--resolution: must be in [2, {}] (got {})", max_resolution,
-                                 options.resolution));
+    throw OptionError("resolution", fmt::format("must be in [2, {}] (got {})", max_resolution,
+                                                options.resolution));
   }
   if (params.size() != tree.params.size()) {
     throw Error(fmt::format("export_scad: {} parameters given, the tree has {}", params.size(),

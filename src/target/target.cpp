@@ -67,8 +67,8 @@ void check_options(const std::string& name, const TargetOptions& options) {
 }  // namespace
 
 void Target::sample_distance_weighted(std::size_t, Rng&, std::vector<float>&) const {
-  throw InputError(
-      fmt::format("--sampler release: only for pictures (the target is a {})", kind()));
+  throw OptionError("sampling.scheme",
+                    fmt::format("release: only for pictures (the target is a {})", kind()));
 }
 
 std::string_view sampling_scheme_name(SamplingScheme scheme) {

@@ -133,6 +133,15 @@ fi
 
 # fit: bad input.
 expect_error "--prims: must be a power of two" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --prims 6 -q
+# The library names its option fields; the program names them by their flags.
+expect_error "^fuzzycsg: error: --metric-points: must be >= 1$" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
+  --metric-points 0 -q
+expect_error "^fuzzycsg: error: --near-distance: must be >= 0 \\(got -1\\)$" "$bin" fit "$tmp/disc.json" \
+  -o "$tmp/f2" --near-distance -1 -q
+expect_error "^fuzzycsg: error: --type-search-until: must be in \\[0, 1\\]" "$bin" fit "$tmp/disc.json" \
+  -o "$tmp/f2" --type-search-until 2 -q
+expect_error "^fuzzycsg: error: --family: circle cannot be fitted|--family: polygon cannot be fitted" \
+  "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --family polygon -q
 expect_error "--lr: must be > 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --lr -1 -q
 expect_error "--family: unknown 2D primitive" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" --family sphere -q
 expect_error "--prune-max-primitives: must be >= 0" "$bin" fit "$tmp/disc.json" -o "$tmp/f2" \
@@ -232,7 +241,7 @@ else
 fi
 expect_error "--sampler: cannot change with --resume" \
   "$bin" fit "$tmp/disc.pbm" -o "$tmp/rel" --resume --sampler appendix-a -q
-expect_error "^fuzzycsg: error: --sampler release: only for pictures \(the target is a tree\)$" \
+expect_error "^fuzzycsg: error: --sampler: release: only for pictures \(the target is a tree\)$" \
   "$bin" fit "$tmp/disc.json" -o "$tmp/f4" --sampler release --iters 10 -q
 if [[ ! -e "$tmp/f4/tree.json" && ! -e "$tmp/f4/checkpoint.json" ]]; then ok; else bad "a refused sampler wrote files"; fi
 expect_error "--surface: not used by --sampler release" \

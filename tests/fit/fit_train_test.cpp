@@ -58,25 +58,25 @@ TEST(FitOptionsValidation, NamesTheFlag) {
   const auto message = [](const FitOptions& o) { return testing::validation_message(o, 3); };
   FitOptions o;
   o.prims = 48;
-  EXPECT_NE(message(o).find("--prims"), std::string::npos);
+  EXPECT_NE(message(o).find("prims: "), std::string::npos);
   o = {};
   o.lr = -1;
-  EXPECT_NE(message(o).find("--lr"), std::string::npos);
+  EXPECT_NE(message(o).find("lr: "), std::string::npos);
   o = {};
   o.batch = 0;
-  EXPECT_NE(message(o).find("--batch"), std::string::npos);
+  EXPECT_NE(message(o).find("batch: "), std::string::npos);
   o = {};
   o.temperature_ramp = 2;
-  EXPECT_NE(message(o).find("--temperature-ramp"), std::string::npos);
+  EXPECT_NE(message(o).find("temperature_ramp: "), std::string::npos);
   o = {};
   o.families = {PrimitiveType::kCircle};
-  EXPECT_NE(message(o).find("--family"), std::string::npos);
+  EXPECT_NE(message(o).find("families: "), std::string::npos);
   o = {};
   o.pool = 10;  // smaller than the batch
-  EXPECT_NE(message(o).find("--pool"), std::string::npos);
+  EXPECT_NE(message(o).find("pool: "), std::string::npos);
   o = {};
   o.prune_max_primitives = -1;
-  EXPECT_NE(message(o).find("--prune-max-primitives"), std::string::npos);
+  EXPECT_NE(message(o).find("prune_max_primitives: "), std::string::npos);
   EXPECT_EQ(message(FitOptions{}), "");
 }
 

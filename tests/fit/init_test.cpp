@@ -439,16 +439,16 @@ TEST(FitOptionsValidation, NewFlagsAreChecked) {
   const auto message = [](const FitOptions& o) { return testing::validation_message(o, 3); };
   FitOptions o;
   o.lr_end = 0;
-  EXPECT_NE(message(o).find("--lr-end"), std::string::npos);
+  EXPECT_NE(message(o).find("lr_end: "), std::string::npos);
   o = {};
   o.reseed_every = -1;
-  EXPECT_NE(message(o).find("--reseed-every"), std::string::npos);
+  EXPECT_NE(message(o).find("reseed_every: "), std::string::npos);
   o = {};
   o.reseed_until = 1.5;
-  EXPECT_NE(message(o).find("--reseed-until"), std::string::npos);
+  EXPECT_NE(message(o).find("reseed_until: "), std::string::npos);
   o = {};
   o.init_slope = -1;
-  EXPECT_NE(message(o).find("--init-slope"), std::string::npos);
+  EXPECT_NE(message(o).find("init_slope: "), std::string::npos);
 }
 
 }  // namespace

@@ -418,13 +418,13 @@ TEST(GodelLogicTwins, QuadricTreesWithOtherTypesAreTheSameFunction) {
 TEST(TypeSearch, OptionsAreValidated) {
   FitOptions o;
   o.type_search_every = -1;
-  EXPECT_NE(testing::validation_message(o, 3).find("--type-search-every"), std::string::npos);
+  EXPECT_NE(testing::validation_message(o, 3).find("type_search_every: "), std::string::npos);
   o = {};
   o.type_search_until = 1.5;
-  EXPECT_NE(testing::validation_message(o, 3).find("--type-search-until"), std::string::npos);
+  EXPECT_NE(testing::validation_message(o, 3).find("type_search_until: "), std::string::npos);
   o = {};
   o.type_search_points = 0;
-  EXPECT_NE(testing::validation_message(o, 3).find("--type-search-points"), std::string::npos);
+  EXPECT_NE(testing::validation_message(o, 3).find("type_search_points: "), std::string::npos);
 }
 
 }  // namespace

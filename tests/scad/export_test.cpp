@@ -285,10 +285,10 @@ TEST(ScadExport, BadPathsAndOptionsWriteNothing) {
   scad::ExportOptions bad;
   bad.fn = 2;
   std::ofstream(dir / "kept.scad") << "previous";
-  expect_error(dir / "kept.scad", bad, "--fn");
+  expect_error(dir / "kept.scad", bad, "fn: ");
   bad.fn = 32;
   bad.resolution = 1;
-  expect_error(dir / "kept.scad", bad, "--resolution");
+  expect_error(dir / "kept.scad", bad, "resolution: ");
   std::ifstream in(dir / "kept.scad");
   std::stringstream ss;
   ss << in.rdbuf();

@@ -233,8 +233,8 @@ TEST(ReleaseSampler, OnlyForPictures) {
     }
     return "no error";
   };
-  EXPECT_EQ(message(*mesh), "--sampler release: only for pictures (the target is a mesh)");
-  EXPECT_EQ(message(*tree), "--sampler release: only for pictures (the target is a tree)");
+  EXPECT_EQ(message(*mesh), "sampling.scheme: release: only for pictures (the target is a mesh)");
+  EXPECT_EQ(message(*tree), "sampling.scheme: release: only for pictures (the target is a tree)");
   Rng rng(1);
   std::vector<float> points;
   EXPECT_THROW(tree->sample_distance_weighted(10, rng, points), InputError);

@@ -10,6 +10,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace fuzzycsg {
 
@@ -21,6 +22,23 @@ class Error : public std::runtime_error {
 class InputError : public Error {
  public:
   using Error::Error;
+};
+
+// A setting of one of the library's options structs that is out of its range. It names the
+// field as the struct spells it ("prims", "sampling.near_distance", "metrics.points") and the
+// problem; what() is "FIELD: PROBLEM". A program maps the field to its own name for it (the
+// fuzzycsg program to its flag, "--prims: must be a power of two ...").
+class OptionError : public InputError {
+ public:
+  OptionError(std::string field, std::string problem)
+      : InputError(field + ": " + problem),
+        field_(std::move(field)),
+        problem_(std::move(problem)) {}
+  const std::string& field() const { return field_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string field_, problem_;
 };
 
 [[noreturn]] void assertion_failed(const char* expr, const char* file, int line);
