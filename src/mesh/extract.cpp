@@ -32,6 +32,9 @@ constexpr double kTau = 1e-5;
 constexpr double kRoundingSlack = 1e-5;
 // A simplified tree with more than this share of the leaves is not worth compiling.
 constexpr double kSimplifyShare = 0.5;
+// A vertex that would lie on a grid point (a value exactly at the level, or an interpolation
+// that rounds onto an end of its edge) is put this fraction of its edge from that end instead.
+constexpr double kVertexInset = 1e-3;
 
 struct Grid {
   int dim = 3;
@@ -350,16 +353,42 @@ class PieceBuilder {
         return std::log(o / (1.0 - o));
       };
       const double la = logit(value(lo)), lb = logit(value(hi)), lv = logit(level_);
-      const auto t = static_cast<float>(std::clamp((lv - la) / (lb - la), 0.0, 1.0));
+      const double t = std::clamp((lv - la) / (lb - la), 0.0, 1.0);
       std::array<float, kDim> p{};
-      for (int c = 0; c < kDim; ++c) {
-        const float pa = g_.fcoordinate(c, lo[c]), pb = g_.fcoordinate(c, hi[c]);
-        p[c] = pa + t * (pb - pa);
-      }
+      if (!between(lo, hi, t, p)) between(lo, hi, std::clamp(t, kVertexInset, 1 - kVertexInset), p);
       piece.keys.push_back(key);
       piece.positions.push_back(p);
     }
     return it->second;
+  }
+
+  // The point a fraction t along the grid edge lo -> hi (hi - lo in {0, 1}^3), in `p`. True when
+  // it lies strictly between the edge's ends along every axis the edge spans, as it must for
+  // the surface to be a 2-manifold in its positions, not only in its indices: vertices on edges
+  // that meet at a grid point would otherwise coincide there (a surface through grid points, as
+  // for faces on grid planes, gives triangles with repeated or collinear corners). A vertex so
+  // placed is at the same coordinates as its edge's ends across the axes the edge does not
+  // span and strictly between them across the others, which names the edge: no two vertices
+  // coincide. Where rounding still puts it on an end, the next float towards the other end is
+  // taken (none is left only where the grid is finer than float resolves).
+  bool between(const std::array<int, 3>& lo, const std::array<int, 3>& hi, double t,
+               std::array<float, kDim>& p) const {
+    const auto tf = static_cast<float>(t);
+    bool strict = true;
+    for (int c = 0; c < kDim; ++c) {
+      const float pa = g_.fcoordinate(c, lo[c]), pb = g_.fcoordinate(c, hi[c]);
+      p[c] = pa + tf * (pb - pa);
+      if (lo[c] == hi[c]) continue;
+      if (!(p[c] > pa)) {
+        p[c] = std::nextafter(pa, pb);
+        strict = false;
+      }
+      if (!(p[c] < pb)) {
+        p[c] = std::nextafter(pb, pa);
+        strict = false;
+      }
+    }
+    return strict;
   }
 
   Piece<kDim> piece;

@@ -2,6 +2,7 @@
 // atomically), SVG by hand (a few lines of text).
 #include <assimp/scene.h>
 #include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
 
 #include <fmt/format.h>
 #include <algorithm>
@@ -89,6 +90,38 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path) {
                                      mesh.triangles.size() * 3);
   const auto scene = make_scene(mesh.vertices, indices, 3);
   export_scene(*scene, format, path);
+}
+
+TriangleMesh read_triangle_mesh(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  if (scene == nullptr) {
+    throw InputError(fmt::format("cannot read {}: {}", path.string(), importer.GetErrorString()));
+  }
+  TriangleMesh mesh;
+  // The meshes as stored, each after the last (write_mesh() writes one, without transforms).
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* in = scene->mMeshes[m];
+    const auto base = static_cast<unsigned>(mesh.vertices.size());
+    for (unsigned v = 0; v < in->mNumVertices; ++v) {
+      const aiVector3D& p = in->mVertices[v];
+      mesh.vertices.push_back({p.x, p.y, p.z});
+    }
+    for (unsigned f = 0; f < in->mNumFaces; ++f) {
+      const aiFace& face = in->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines
+      std::array<int, 3> t{};
+      for (int c = 0; c < 3; ++c) {
+        if (face.mIndices[c] >= in->mNumVertices) {
+          throw InputError(fmt::format("cannot read {}: face {} refers to vertex {} of {}",
+                                       path.string(), f, face.mIndices[c], in->mNumVertices));
+        }
+        t[static_cast<std::size_t>(c)] = static_cast<int>(base + face.mIndices[c]);
+      }
+      mesh.triangles.push_back(t);
+    }
+  }
+  return mesh;
 }
 
 void write_contours(const Contours& contours, const Tree& tree, const std::filesystem::path& path) {

@@ -343,6 +343,67 @@ for ext in obj stl ply; do
     bad "mesh to .$ext"
   fi
 done
+# mesh --check reads back the file written. The table's board sides (y = +-0.5) and legs' feet
+# (z = 0) lie on grid planes at resolution 128 (the level runs through grid points, where
+# vertices used to coincide): each file must be a closed, oriented 2-manifold by position, as
+# counted here independently, and --check must report the same counts.
+for ext in obj ply stl; do
+  if "$bin" mesh "$src/examples/table.json" -o "$tmp/table.$ext" --resolution 128 --check \
+    >"$tmp/out" 2>&1 && python3 - "$tmp/table.$ext" "$tmp/out" <<'PY'
+import re, struct, sys
+path, data = sys.argv[1], open(sys.argv[1], "rb").read()
+verts, faces = [], []
+if path.endswith(".obj"):
+    for f in (line.split() for line in data.decode().splitlines()):
+        if f and f[0] == "v":
+            verts.append(tuple(float(x) for x in f[1:4]))
+        elif f and f[0] == "f":
+            faces.append([int(x.split("/")[0]) - 1 for x in f[1:]])
+elif path.endswith(".stl"):  # binary: 80 bytes, a count, 50 bytes a triangle
+    for i in range(struct.unpack_from("<I", data, 80)[0]):
+        x = struct.unpack_from("<12f", data, 84 + 50 * i)
+        verts += [x[3:6], x[6:9], x[9:12]]
+        faces.append([3 * i, 3 * i + 1, 3 * i + 2])
+else:  # binary PLY as assimp writes it: float x, y, z; faces as uchar counts and int indices
+    head, body = data.split(b"end_header\n", 1)
+    lines = head.decode().splitlines()
+    assert "property list uchar int vertex_index" in lines, lines
+    nv = int(next(l for l in lines if l.startswith("element vertex")).split()[2])
+    nf = int(next(l for l in lines if l.startswith("element face")).split()[2])
+    verts = [struct.unpack_from("<3f", body, 12 * i) for i in range(nv)]
+    at = 12 * nv
+    for _ in range(nf):
+        assert body[at] == 3
+        faces.append(list(struct.unpack_from("<3i", body, at + 1)))
+        at += 13
+ids = {}
+w = [ids.setdefault(v, len(ids)) for v in verts]
+degenerate, edges = 0, {}
+for f in faces:
+    a, b, c = (w[i] for i in f)
+    p, q, r = (verts[i] for i in f)
+    u, v = [q[k] - p[k] for k in range(3)], [r[k] - p[k] for k in range(3)]
+    n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+    degenerate += len({a, b, c}) < 3 or n == (0, 0, 0)
+    for x, y in ((a, b), (b, c), (c, a)):
+        if x != y:
+            e = edges.setdefault((min(x, y), max(x, y)), [0, 0])
+            e[0] += 1
+            e[1] += x < y
+counted = (len(ids), len(faces), len(edges), degenerate, sum(e[0] != 2 for e in edges.values()),
+           sum(e[0] == 2 and e[1] != 1 for e in edges.values()))
+out = open(sys.argv[2]).read()
+m = re.search(r"check of .* as written: (\d+) vertices by position, (\d+) triangles, (\d+) edges; "
+              r"(\d+) degenerate triangles, (\d+) edges not in exactly two triangles, (\d+) "
+              r"misoriented edges, (\d+) non-manifold vertices", out)
+assert m, out
+reported = tuple(int(g) for g in m.groups())
+assert reported[:6] == counted, (reported, counted)
+assert counted[3:] == (0, 0, 0) and reported[6] == 0 and counted[1] > 100000, reported
+assert "(a closed, oriented 2-manifold)" in out, out
+PY
+  then ok; else bad "mesh --check of table.$ext: $(tail -c 400 "$tmp/out")"; fi
+done
 if "$bin" mesh "$src/examples/cart_2d.json" -o "$tmp/cart.svg" --resolution 64 >/dev/null &&
   grep -q "<path" "$tmp/cart.svg"; then
   ok

@@ -8,12 +8,15 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg {
@@ -192,6 +195,141 @@ TEST(Mesh, CappedAtTheDomainBoundary) {
   EXPECT_NEAR(mesh_volume(m), side * side * side, 0.02 * 8.0);
 }
 
+// Counted without check_mesh(): positions welded through a std::map, each triangle's corners
+// and area, each undirected edge's triangles.
+struct PositionCounts {
+  std::size_t positions = 0;
+  std::size_t repeated = 0;   // triangles with a position twice
+  std::size_t zero_area = 0;  // the others with corners on a line
+  std::size_t edges_not_two = 0;
+};
+
+PositionCounts count_by_position(const TriangleMesh& m) {
+  std::map<std::array<float, 3>, int> ids;
+  std::vector<int> id;
+  for (const auto& v : m.vertices) id.push_back(ids.emplace(v, ids.size()).first->second);
+  PositionCounts c;
+  c.positions = ids.size();
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : m.triangles) {
+    const int a = id[t[0]], b = id[t[1]], d = id[t[2]];
+    if (a == b || b == d || d == a) {
+      ++c.repeated;
+    } else {
+      const auto& p = m.vertices[t[0]];
+      const auto& q = m.vertices[t[1]];
+      const auto& r = m.vertices[t[2]];
+      double n2 = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        const int i = (k + 1) % 3, j = (k + 2) % 3;
+        const double x = (double{q[i]} - p[i]) * (double{r[j]} - p[j]) -
+                         (double{q[j]} - p[j]) * (double{r[i]} - p[i]);
+        n2 += x * x;
+      }
+      if (n2 == 0.0) ++c.zero_area;
+    }
+    for (const auto& [u, v] : {std::pair{a, b}, std::pair{b, d}, std::pair{d, a}}) {
+      if (u != v) ++edges[{std::min(u, v), std::max(u, v)}];
+    }
+  }
+  for (const auto& [e, n] : edges) c.edges_not_two += n != 2 ? 1 : 0;
+  return c;
+}
+
+void expect_manifold_by_position(const TriangleMesh& m, const std::string& what) {
+  const PositionCounts c = count_by_position(m);
+  EXPECT_EQ(c.positions, m.vertices.size()) << what << ": vertices at one position";
+  EXPECT_EQ(c.repeated, 0u) << what;
+  EXPECT_EQ(c.zero_area, 0u) << what;
+  EXPECT_EQ(c.edges_not_two, 0u) << what;
+  const MeshCheck check = check_mesh(m);
+  EXPECT_EQ(check.vertices, c.positions) << what;
+  EXPECT_EQ(check.degenerate_triangles, c.repeated + c.zero_area) << what;
+  EXPECT_EQ(check.nonmanifold_edges, c.edges_not_two) << what;
+  EXPECT_TRUE(check.closed_oriented_manifold()) << what;
+}
+
+// A box whose faces lie on grid planes (at resolution 16 over [-1, 1], multiples of 1/8): the
+// occupancy at the grid points on them is exactly 0.5, on the level. Vertices on the edges that
+// meet at such a point used to be put on it, so that different vertices of the mesh coincided
+// and their triangles collapsed (index-closed, not a manifold by position). The table's board
+// sides (y = +-0.5) and its legs' feet (z = 0) are on grid planes at resolution 128, likewise.
+TEST(Mesh, SurfaceThroughGridPointsIsAManifoldByPosition) {
+  const Tree box = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+          "root": {"type": "box", "size": [1.0, 0.5, 0.75], "sharpness": 40}})",
+      "box");
+  // On the level exactly at a grid point of the face x = 0.5 (and below it just inside).
+  std::vector<float> occupancy(2);
+  Evaluator(box, EvalOptions{1})
+      .forward(box.params.values(), std::vector<float>{0.5f, 0.0f, 0.0f, 0.375f, 0.0f, 0.0f},
+               occupancy);
+  ASSERT_EQ(occupancy[0], 0.5f);
+  ASSERT_GT(occupancy[1], 0.5f);
+  MeshOptions o;
+  o.resolution = 16;
+  const TriangleMesh m = extract_mesh(box, box.params.values(), o);
+  ASSERT_GT(m.triangles.size(), 100u);
+  EXPECT_EQ(open_or_misoriented_edges(m), 0u);
+  EXPECT_EQ(euler_characteristic(m), 2);
+  expect_manifold_by_position(m, "box");
+  // The level runs through the grid points: vertices sit a thousandth of a cell off them.
+  EXPECT_NEAR(mesh_volume(m), 1.0 * 0.5 * 0.75, 0.01);
+  const Tree table = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/table.json");
+  o.resolution = 128;
+  const TriangleMesh t = extract_mesh(table, table.params.values(), o);
+  EXPECT_EQ(open_or_misoriented_edges(t), 0u);
+  expect_manifold_by_position(t, "table");
+}
+
+TEST(MeshCheck, CountsByPositionNotIndex) {
+  TriangleMesh tet;
+  tet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  MeshCheck c = check_mesh(tet);
+  EXPECT_EQ(c.vertices, 4u);
+  EXPECT_EQ(c.triangles, 4u);
+  EXPECT_EQ(c.edges, 6u);
+  EXPECT_TRUE(c.closed_oriented_manifold());
+  // Vertex 3 moved onto vertex 0: closed by its indices, two triangles collapsed by position.
+  TriangleMesh pinched = tet;
+  pinched.vertices[3] = pinched.vertices[0];
+  EXPECT_EQ(open_or_misoriented_edges(pinched), 0u);
+  c = check_mesh(pinched);
+  EXPECT_EQ(c.vertices, 3u);
+  EXPECT_EQ(c.degenerate_triangles, 2u);
+  EXPECT_FALSE(c.closed_oriented_manifold());
+  // Corners on a line: zero area without a repeated position.
+  TriangleMesh flat = tet;
+  flat.vertices[3] = {2, 0, 0};
+  EXPECT_EQ(check_mesh(flat).degenerate_triangles, 1u);  // 0, 1, 3 on the x axis
+  // One triangle turned: its three edges run the same way as their other triangles'.
+  TriangleMesh turned = tet;
+  std::swap(turned.triangles[3][1], turned.triangles[3][2]);
+  EXPECT_EQ(check_mesh(turned).misoriented_edges, 3u);
+  // A triangle missing: three open edges, and its corners' fans not closed.
+  TriangleMesh open = tet;
+  open.triangles.pop_back();
+  c = check_mesh(open);
+  EXPECT_EQ(c.nonmanifold_edges, 3u);
+  EXPECT_EQ(c.nonmanifold_vertices, 3u);
+  // A fin on an edge: that edge in three triangles.
+  TriangleMesh fin = tet;
+  fin.vertices.push_back({1, 1, 1});
+  fin.triangles.push_back({0, 1, 4});
+  EXPECT_EQ(check_mesh(fin).nonmanifold_edges, 3u);  // 0-1 in three, 1-4 and 4-0 in one
+  // Two tetrahedra touching at one corner (a separate vertex at the same position): every edge
+  // in two triangles, the corner pinched.
+  TriangleMesh touching = tet;
+  for (const auto& v : tet.vertices) touching.vertices.push_back({-v[0], -v[1], -v[2]});
+  for (const auto& t : tet.triangles) touching.triangles.push_back({t[0] + 4, t[2] + 4, t[1] + 4});
+  c = check_mesh(touching);
+  EXPECT_EQ(c.vertices, 7u);
+  EXPECT_EQ(c.nonmanifold_edges, 0u);
+  EXPECT_EQ(c.misoriented_edges, 0u);
+  EXPECT_EQ(c.nonmanifold_vertices, 1u);
+}
+
 TEST(Mesh, EmptyLevelSetGivesAnEmptyMesh) {
   const Tree tree = sphere_tree(0.2, R"(, "translate": [5, 5, 5])");
   MeshStats stats;
@@ -256,6 +394,23 @@ TEST(Contours, LoopsAreClosedOrientedAndEncloseTheArea) {
   EXPECT_EQ(cw, 1);
 }
 
+// A rectangle whose sides lie on grid lines (multiples of 1/8 at resolution 16): its contour
+// points, which used to repeat at the grid points on the level, are all distinct.
+TEST(Contours, SidesOnGridLinesGiveDistinctPoints) {
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+          "root": {"type": "rectangle", "size": [1.0, 0.5], "sharpness": 40}})",
+      "rectangle");
+  MeshOptions o;
+  o.resolution = 16;
+  const Contours c = extract_contours(tree, tree.params.values(), o);
+  ASSERT_EQ(c.loops.size(), 1u);
+  std::set<std::array<float, 2>> points(c.loops[0].begin(), c.loops[0].end());
+  EXPECT_EQ(points.size(), c.loops[0].size());
+  EXPECT_GT(points.size(), 20u);
+  EXPECT_NEAR(contours_area(c), 0.5, 0.01);
+}
+
 TEST(Contours, PruningIsExact) {
   const Tree tree = disc_with_hole();
   MeshOptions o;
@@ -291,6 +446,52 @@ TEST(MeshFiles, ObjStlPlyRoundTripThroughAssimp) {
   }
   // No material file beside the OBJ.
   EXPECT_FALSE(std::filesystem::exists(dir / "fuzzycsg_mesh.mtl"));
+}
+
+// The mesh as stored in a file, read by assimp with nothing joined (each format its own way:
+// OBJ's exporter welds positions, PLY keeps the vertices, STL repeats them per triangle).
+TriangleMesh read_back_mesh(const std::filesystem::path& path) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(path.string(), 0);
+  TriangleMesh m;
+  if (scene == nullptr || scene->mNumMeshes != 1) return m;
+  const aiMesh* mesh = scene->mMeshes[0];
+  for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+    m.vertices.push_back({mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z});
+  }
+  for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+    const unsigned* i = mesh->mFaces[f].mIndices;
+    m.triangles.push_back({static_cast<int>(i[0]), static_cast<int>(i[1]), static_cast<int>(i[2])});
+  }
+  return m;
+}
+
+// What --check reads (read_triangle_mesh() and check_mesh()) agrees with an independent count
+// of each file written, and the table's files are closed 2-manifolds by position.
+TEST(MeshFiles, WrittenTableIsAManifoldAndTheCheckAgrees) {
+  const Tree tree = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/table.json");
+  MeshOptions o;
+  o.resolution = 128;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  const std::filesystem::path dir = ::testing::TempDir();
+  for (const char* name : {"fuzzycsg_table.obj", "fuzzycsg_table.stl", "fuzzycsg_table.ply"}) {
+    const std::filesystem::path path = dir / name;
+    write_mesh(m, path);
+    const TriangleMesh stored = read_back_mesh(path);
+    ASSERT_EQ(stored.triangles.size(), m.triangles.size()) << name;
+    const PositionCounts c = count_by_position(stored);
+    EXPECT_EQ(c.positions, m.vertices.size()) << name;
+    EXPECT_EQ(c.repeated, 0u) << name;
+    EXPECT_EQ(c.zero_area, 0u) << name;
+    EXPECT_EQ(c.edges_not_two, 0u) << name;
+    const MeshCheck check = check_mesh(read_triangle_mesh(path));
+    EXPECT_EQ(check.vertices, c.positions) << name;
+    EXPECT_EQ(check.triangles, m.triangles.size()) << name;
+    EXPECT_EQ(check.degenerate_triangles, c.repeated + c.zero_area) << name;
+    EXPECT_EQ(check.nonmanifold_edges, c.edges_not_two) << name;
+    EXPECT_TRUE(check.closed_oriented_manifold()) << name;
+  }
+  EXPECT_THROW(read_triangle_mesh(dir / "fuzzycsg_no_such_mesh.obj"), InputError);
 }
 
 TEST(MeshFiles, BadPathsLeaveNothing) {

@@ -14,8 +14,11 @@
 // The result is closed even where the shape reaches the domain's boundary: the grid points on
 // the boundary count as outside, so the surface is capped there. A vertex lies on a grid edge
 // whose ends are on either side of the level, interpolated linearly; it is shared by every
-// triangle that uses that edge. Inside is occupancy >= level; triangles wind counter-clockwise
-// seen from outside (normals point out).
+// triangle that uses that edge. It never lies on a grid point: where the surface passes through
+// one (a value exactly at the level, as for a face on a grid plane) the vertex is put a
+// thousandth of its edge from it, so that no two vertices coincide and the surface is a closed
+// 2-manifold in its positions, not only in its indices. Inside is occupancy >= level; triangles
+// wind counter-clockwise seen from outside (normals point out).
 
 #include <array>
 #include <cstddef>
@@ -74,9 +77,31 @@ Contours extract_contours(const Tree& tree, std::span<const double> params,
 
 // Signed volume (positive for outward-facing triangles) and the number of edges that are not
 // shared by exactly two triangles with opposite orientations (0 for a closed, consistently
-// oriented surface).
+// oriented surface). The edges are those of the vertex indices: vertices at the same position
+// count as different (check_mesh() counts by position).
 double mesh_volume(const TriangleMesh& mesh);
 std::size_t open_or_misoriented_edges(const TriangleMesh& mesh);
+
+// The mesh as a reader of its file sees it: vertices at the same position (compared exactly)
+// welded into one, as OBJ's exporter does and any tool that welds does, then counted.
+struct MeshCheck {
+  std::size_t vertices = 0;   // distinct positions used by the triangles
+  std::size_t triangles = 0;  // all of them, degenerate ones included
+  std::size_t edges = 0;      // undirected edges between distinct positions
+  // Triangles with a position twice or three times, or with zero area (corners on a line).
+  std::size_t degenerate_triangles = 0;
+  std::size_t nonmanifold_edges = 0;  // edges not in exactly two triangles
+  std::size_t misoriented_edges = 0;  // edges of two triangles that run them the same way
+  // Vertices whose triangles do not form one fan closed around them (a pinch, a boundary).
+  std::size_t nonmanifold_vertices = 0;
+  // A closed, consistently oriented 2-manifold without degenerate triangles.
+  bool closed_oriented_manifold() const {
+    return degenerate_triangles == 0 && nonmanifold_edges == 0 && misoriented_edges == 0 &&
+           nonmanifold_vertices == 0;
+  }
+};
+MeshCheck check_mesh(const TriangleMesh& mesh);
+
 // Area enclosed (positive for counter-clockwise loops) of the contours.
 double contours_area(const Contours& contours);
 
@@ -85,6 +110,11 @@ double contours_area(const Contours& contours);
 // to a temporary name beside `path` and renamed, so that a failure leaves no partial file.
 // Throws InputError (unknown extension, unwritable path) naming the path.
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
+// A mesh file (OBJ, STL, PLY, ...) read back through assimp's importers as it is stored: no
+// post-processing, no vertices joined (an STL's triangles have three vertices each). For
+// checking what write_mesh() wrote. Throws InputError naming the path when assimp cannot read
+// it.
+TriangleMesh read_triangle_mesh(const std::filesystem::path& path);
 void write_contours(const Contours& contours, const Tree& tree, const std::filesystem::path& path);
 
 }  // namespace fuzzycsg
