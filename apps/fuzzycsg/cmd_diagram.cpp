@@ -1,7 +1,8 @@
 // fuzzycsg diagram TREE -o OUT.dot|.svg|.png [--direction auto|TB|LR]
 //
 // The tree itself as a diagram: Graphviz DOT text, or a picture laid out and drawn by Graphviz
-// (SVG, PNG). Prints the node count and how long the layout took.
+// (SVG, PNG). Prints the node count and how long the layout took. A program built without the
+// diagram module (FUZZYCSG_WITH_DIAGRAM=OFF: no Graphviz) has the verb, which says so.
 
 #include <fmt/format.h>
 
@@ -11,7 +12,10 @@
 #include <string>
 
 #include "commands.hpp"
+#include "fuzzycsg/core/error.hpp"
+#if FUZZYCSG_HAVE_DIAGRAM
 #include "fuzzycsg/diagram/diagram.hpp"
+#endif
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::app {
@@ -25,6 +29,12 @@ struct DiagramArgs {
 };
 
 int run_diagram(const DiagramArgs& a) {
+#if !FUZZYCSG_HAVE_DIAGRAM
+  throw InputError(fmt::format(
+      "diagram: this fuzzycsg was built without Graphviz (FUZZYCSG_WITH_DIAGRAM=OFF), so it "
+      "cannot write {}",
+      a.out));
+#else
   const Tree tree = io::read_tree_file(a.tree);
   DiagramOptions options;
   options.title = std::filesystem::path(a.tree).filename().string();
@@ -39,6 +49,7 @@ int run_diagram(const DiagramArgs& a) {
     fmt::print("diagram: {} nodes to {} in {:.2f} s\n", tree.nodes.size(), a.out, seconds);
   }
   return 0;
+#endif
 }
 
 }  // namespace

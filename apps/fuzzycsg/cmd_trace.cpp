@@ -5,7 +5,8 @@
 // rectangles that reproduces a bitmap (trace: OUTDIR/tree.json, result.png, primitives.svg,
 // report.json; with --runs N > 1 also OUTDIR/distinct/NN/ for each distinct result), and the
 // morph between two bitmaps through a pair of trees of the same structure (morph:
-// OUTDIR/first.json, second.json, report.json, frames/frame_000.png ..., morph.gif).
+// OUTDIR/first.json, second.json, report.json, frames/frame_000.png ..., morph.gif; a program
+// built without giflib refuses morph).
 // docs/trace.md describes the outputs and the report's fields.
 
 #include <fmt/format.h>
@@ -434,6 +435,12 @@ int run_morph(const MorphArgs& a) {
   }
   trace::check_traceable(first, a.first);
   trace::check_traceable(second, a.second);
+  // Checked before the search and before anything is written.
+  if (!FUZZYCSG_HAVE_GIFLIB) {
+    throw InputError(
+        "morph: this fuzzycsg was built without giflib (FUZZYCSG_WITH_GIF=OFF), so it cannot "
+        "write morph.gif");
+  }
   const fs::path out(a.out_dir);
   prepare_output_dir(out);
 

@@ -1,9 +1,12 @@
 // The frames of a morph: leaves interpolated as rounded rectangles, frames rasterised by point
-// tests, animated GIFs through giflib (trace/morph_frames.hpp).
+// tests, animated GIFs through giflib (trace/morph_frames.hpp; FUZZYCSG_HAVE_GIFLIB is 0 in a
+// build without giflib, whose encode_gif throws).
 
 #include "fuzzycsg/trace/morph_frames.hpp"
 
+#if FUZZYCSG_HAVE_GIFLIB
 #include <gif_lib.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -206,6 +209,7 @@ std::vector<std::uint8_t> indexed_image(const Bitmap& b, int scale, std::uint8_t
   return out;
 }
 
+#if FUZZYCSG_HAVE_GIFLIB
 namespace {
 
 int append_bytes(GifFileType* gif, const GifByteType* data, int n) {
@@ -220,6 +224,7 @@ std::string gif_error(const char* what, int code) {
 }
 
 }  // namespace
+#endif
 
 std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int width, int height,
                        std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms) {
@@ -241,6 +246,13 @@ std::string encode_gif(int count, int width, int height,
   if (palette.empty() || palette.size() > 256) {
     throw std::invalid_argument("GIF encoding: the palette has 1 to 256 colours");
   }
+#if !FUZZYCSG_HAVE_GIFLIB
+  static_cast<void>(count);
+  static_cast<void>(delay_ms);
+  static_cast<void>(frame);
+  throw std::runtime_error(
+      "GIF encoding: this fuzzycsg was built without giflib (FUZZYCSG_WITH_GIF=OFF)");
+#else
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   // The colour table: a power of two of at least 2 entries.
   int bits = 1;
@@ -302,6 +314,7 @@ std::string encode_gif(int count, int width, int height,
   }
   if (EGifCloseFile(gif, &error) == GIF_ERROR) throw std::runtime_error(gif_error("close", error));
   return out;
+#endif
 }
 
 }  // namespace fuzzycsg::trace

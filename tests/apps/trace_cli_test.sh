@@ -213,14 +213,16 @@ for i in 1 2 3 4 5 6 7 8 9 10 11 12 13 14; do
 done
 
 # morph: the trees, the frames, the GIF, the report.
-if "$bin" morph "$tmp/disc.png" "$tmp/bar.png" -o "$tmp/m" "${tiny[@]}" --frames 6 --delay 50 \
-    --rotation ccw >"$tmp/m.log" 2>&1; then
-  ok
-  for f in first.json second.json report.json morph.gif frames/frame_000.png frames/frame_005.png; do
-    if [[ -s "$tmp/m/$f" ]]; then ok; else bad "morph did not write $f"; fi
-  done
-  if [[ ! -e "$tmp/m/frames/frame_006.png" ]]; then ok; else bad "morph wrote too many frames"; fi
-  if python3 - "$tmp/m" <<'PY'
+# A program built without giflib (FUZZYCSG_WITH_GIF=OFF) refuses, before it searches or writes.
+if [[ ${FUZZYCSG_HAVE_GIFLIB:-1} == 1 ]]; then
+  if "$bin" morph "$tmp/disc.png" "$tmp/bar.png" -o "$tmp/m" "${tiny[@]}" --frames 6 --delay 50 \
+      --rotation ccw >"$tmp/m.log" 2>&1; then
+    ok
+    for f in first.json second.json report.json morph.gif frames/frame_000.png frames/frame_005.png; do
+      if [[ -s "$tmp/m/$f" ]]; then ok; else bad "morph did not write $f"; fi
+    done
+    if [[ ! -e "$tmp/m/frames/frame_006.png" ]]; then ok; else bad "morph wrote too many frames"; fi
+    if python3 - "$tmp/m" <<'PY'
 import json, struct, sys
 d = sys.argv[1]
 r = json.load(open(d + "/report.json"))
@@ -259,17 +261,21 @@ p = open(d + "/frames/frame_000.png", "rb").read(24)
 assert (w, h) == struct.unpack(">II", p[16:24]), (w, h)
 assert w >= 256
 PY
-  then ok; else bad "morph report or GIF"; fi
-  if "$bin" info "$tmp/m/first.json" >/dev/null && "$bin" info "$tmp/m/second.json" >/dev/null; then ok; else
-    bad "morph trees do not read back"
-  fi
-  # A shorter morph into the same directory leaves no stale frames behind.
-  if "$bin" morph "$tmp/disc.png" "$tmp/bar.png" -o "$tmp/m" "${tiny[@]}" --frames 2 -q &&
-      [[ -s "$tmp/m/frames/frame_001.png" && ! -e "$tmp/m/frames/frame_002.png" ]]; then ok; else
-    bad "morph: stale frames"
+    then ok; else bad "morph report or GIF"; fi
+    if "$bin" info "$tmp/m/first.json" >/dev/null && "$bin" info "$tmp/m/second.json" >/dev/null; then ok; else
+      bad "morph trees do not read back"
+    fi
+    # A shorter morph into the same directory leaves no stale frames behind.
+    if "$bin" morph "$tmp/disc.png" "$tmp/bar.png" -o "$tmp/m" "${tiny[@]}" --frames 2 -q &&
+        [[ -s "$tmp/m/frames/frame_001.png" && ! -e "$tmp/m/frames/frame_002.png" ]]; then ok; else
+      bad "morph: stale frames"
+    fi
+  else
+    bad "morph: $(tail -5 "$tmp/m.log")"
   fi
 else
-  bad "morph: $(tail -5 "$tmp/m.log")"
+  expect_error "built without giflib" "$bin" morph "$tmp/disc.png" "$tmp/bar.png" -o "$tmp/m" "${tiny[@]}"
+  if [[ ! -e "$tmp/m" ]]; then ok; else bad "morph without giflib wrote $tmp/m"; fi
 fi
 
 echo "$pass passed, $fail failed"

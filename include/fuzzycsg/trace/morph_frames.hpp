@@ -84,7 +84,9 @@ std::vector<std::uint8_t> indexed_image(const Bitmap& b, int scale, std::uint8_t
 
 // An animated GIF of frames of width x height palette indices (row-major, row 0 on top), each
 // shown `delay_ms` milliseconds (GIF counts hundredths), looping forever. The palette has at
-// most 256 colours. Throws std::runtime_error if giflib fails.
+// most 256 colours. Throws std::runtime_error if giflib fails, and always (after checking the
+// arguments) in a fuzzycsg built without giflib (FUZZYCSG_WITH_GIF=OFF; the fuzzycsg::trace
+// target then defines FUZZYCSG_HAVE_GIFLIB=0, otherwise 1).
 std::string encode_gif(std::span<const std::vector<std::uint8_t>> frames, int width, int height,
                        std::span<const std::array<std::uint8_t, 3>> palette, int delay_ms);
 // The same with the frames made one at a time by frame(i), i = 0 .. count - 1 (so that only one
