@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 

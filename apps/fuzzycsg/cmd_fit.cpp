@@ -25,7 +25,7 @@
 #include "fuzzycsg/fit/option_names.hpp"
 #include "fuzzycsg/fit/plot.hpp"
 #include "fuzzycsg/fit/report.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 #include "fuzzycsg/render/render.hpp"

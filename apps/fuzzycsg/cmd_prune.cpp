@@ -18,7 +18,7 @@
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/fit/metrics.hpp"
 #include "fuzzycsg/fit/prune.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/target/target.hpp"
 

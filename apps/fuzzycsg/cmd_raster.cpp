@@ -33,8 +33,8 @@
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/png.hpp"
-#include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::app {

@@ -28,7 +28,7 @@
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/scad/scad.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/render/render.hpp"
 

@@ -21,7 +21,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/convert.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"

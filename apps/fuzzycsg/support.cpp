@@ -6,7 +6,7 @@
 #include <map>
 
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 
 namespace fuzzycsg::app {
 

@@ -15,7 +15,7 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diagram/diagram.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 
 namespace fuzzycsg {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::diffcsg {

@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/png.hpp"
-#include "fuzzycsg/io/points.hpp"
 #include "fuzzycsg/target/mesh_file.hpp"
 
 namespace fuzzycsg::diffcsg {

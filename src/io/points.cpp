@@ -1,17 +1,9 @@
-// Point files, and writing text files atomically.
+// Point files.
 #include "fuzzycsg/io/points.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <atomic>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <random>
-#include <system_error>
 
 #include "fuzzycsg/core/error.hpp"
 #include "io_detail.hpp"
@@ -108,15 +100,6 @@ class PointParser {
   std::vector<float> points_;
 };
 
-std::string temp_name_beside(const std::filesystem::path& path) {
-  static std::atomic<unsigned> counter{0};
-  std::random_device device;
-  const std::string suffix = ".tmp." + std::to_string(::getpid()) + "." +
-                             std::to_string(counter.fetch_add(1)) + "." +
-                             std::to_string(device() % 1000000u);
-  return path.string() + suffix;
-}
-
 }  // namespace
 
 std::vector<float> read_points_string(std::string_view text, int dim, std::string_view source) {
@@ -130,40 +113,6 @@ std::vector<float> read_points_string(std::string_view text, int dim, std::strin
 std::vector<float> read_points_file(const std::filesystem::path& path, int dim) {
   const std::string text = detail::read_text_file(path);
   return read_points_string(text, dim, detail::display_name(path));
-}
-
-std::string read_file(const std::filesystem::path& path) { return detail::read_text_file(path); }
-
-void write_text_file_atomic(const std::filesystem::path& path, std::string_view text) {
-  const std::string temp = temp_name_beside(path);
-  const auto fail = [&](const std::string& reason) -> void {
-    ::unlink(temp.c_str());
-    throw InputError("cannot write " + detail::display_name(path) + ": " + reason);
-  };
-  if (path.empty()) throw InputError("cannot write an unnamed file");
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) {
-    // Nothing was created; report the reason without touching anything.
-    throw InputError("cannot write " + detail::display_name(path) + ": " + std::strerror(errno));
-  }
-  std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd);
-      fail(std::strerror(error));
-    }
-    written += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    const int error = errno;
-    ::close(fd);
-    fail(std::strerror(error));
-  }
-  if (::close(fd) != 0) fail(std::strerror(errno));
-  if (::rename(temp.c_str(), path.c_str()) != 0) fail(std::strerror(errno));
 }
 
 }  // namespace fuzzycsg::io

@@ -15,7 +15,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/fields.hpp"
 #include "fuzzycsg/core/numbers.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "io_detail.hpp"
 
 namespace fuzzycsg::io {

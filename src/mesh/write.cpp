@@ -11,7 +11,7 @@
 #include <string>
 
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 
 namespace fuzzycsg {

@@ -15,7 +15,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/placement.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 #include "fuzzycsg/scad/scad.hpp"
 

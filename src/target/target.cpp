@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "target_detail.hpp"
 
 namespace fuzzycsg {

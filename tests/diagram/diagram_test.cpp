@@ -13,7 +13,7 @@
 
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg {

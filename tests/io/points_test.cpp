@@ -1,5 +1,6 @@
 // Point files: separators, comments, and errors with line and column.
 #include "fuzzycsg/io/points.hpp"
+#include "fuzzycsg/io/files.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

@@ -14,10 +14,4 @@ namespace fuzzycsg::io {
 std::vector<float> read_points_string(std::string_view text, int dim, std::string_view source);
 std::vector<float> read_points_file(const std::filesystem::path& path, int dim);
 
-// The whole file as bytes. Throws InputError "cannot read FILE: reason" if it cannot.
-std::string read_file(const std::filesystem::path& path);
-
-// Writes text atomically (temporary file + rename). Throws InputError if it cannot.
-void write_text_file_atomic(const std::filesystem::path& path, std::string_view text);
-
 }  // namespace fuzzycsg::io
