@@ -50,6 +50,10 @@ struct Statement {
   bool excluded = false;  // a % or * modifier
 };
 
+// Hostile input must not exhaust the stack: the parser and the builders recurse once per level
+// of statements and of vectors, so their nesting together is bounded.
+constexpr int kMaxNesting = 512;
+
 class Parser {
  public:
   Parser(std::string_view text, const std::string& source) : s_(text), source_(source) {}
@@ -80,6 +84,22 @@ class Parser {
   [[noreturn]] void fail(const std::string& what) const {
     throw InputError(fmt::format("{}: line {}: {}", source_, line_, what));
   }
+  // One level deeper for as long as it lives.
+  class Level {
+   public:
+    explicit Level(Parser& parser) : parser_(parser) {
+      if (++parser_.depth_ > kMaxNesting) {
+        parser_.fail(fmt::format("nested deeper than {} levels", kMaxNesting));
+      }
+    }
+    ~Level() { --parser_.depth_; }
+    Level(const Level&) = delete;
+    Level& operator=(const Level&) = delete;
+
+   private:
+    Parser& parser_;
+  };
+
   bool at_end() const { return i_ >= s_.size(); }
   char peek() const { return at_end() ? '\0' : s_[i_]; }
   void skip() {
@@ -121,6 +141,7 @@ class Parser {
     skip();
     Value v;
     if (peek() == '[') {
+      const Level level(*this);
       ++i_;
       v.kind = Value::Kind::kVector;
       skip();
@@ -176,6 +197,7 @@ class Parser {
     return v;
   }
   Statement statement() {
+    const Level level(*this);
     Statement st;
     skip();
     st.line = line_;
@@ -239,6 +261,7 @@ class Parser {
   const std::string& source_;
   std::size_t i_ = 0;
   int line_ = 1;
+  int depth_ = 0;
 };
 
 using Matrix = std::array<double, 16>;  // row-major 4x4
@@ -396,10 +419,48 @@ class StatementReader {
   const std::string& source_;
 };
 
+// The triangles of a primitive as SceneBuilder tessellates it.
+std::size_t triangle_count(const Primitive& p) {
+  const auto f = static_cast<std::size_t>(p.fragments);
+  switch (p.kind) {
+    case Primitive::Kind::kCube:
+      return 12;
+    case Primitive::Kind::kSphere:  // two capping polygons, two triangles per fragment between
+                                    // rings
+      return 2 * (f - 2) + 2 * f * ((f + 1) / 2 - 1);
+    case Primitive::Kind::kCylinder: {  // per circle (not an apex): f sides and f - 2 for its cap
+      const std::size_t circles = (p.r1 > 0 ? 1 : 0) + (p.r2 > 0 ? 1 : 0);
+      return circles * (2 * f - 2);
+    }
+  }
+  return 0;
+}
+
+// The triangles of the model so far, refused past the limit before the primitive that passes
+// it is tessellated.
+class TriangleBudget {
+ public:
+  TriangleBudget(const StatementReader& read, std::size_t max_triangles)
+      : read_(read), max_(max_triangles) {}
+
+  void add(const Statement& st, const Primitive& p) {
+    total_ += triangle_count(p);
+    if (total_ > max_) {
+      read_.fail(st, fmt::format("{} triangles in the model with it, at most {}", total_, max_));
+    }
+  }
+
+ private:
+  const StatementReader& read_;
+  std::size_t max_;
+  std::size_t total_ = 0;
+};
+
 // The meshed primitives of a model, in the world.
 class SceneBuilder {
  public:
-  SceneBuilder(Scene& scene, const std::string& source) : scene_(scene), read_(source) {}
+  SceneBuilder(Scene& scene, const std::string& source, std::size_t max_triangles)
+      : scene_(scene), read_(source), budget_(read_, max_triangles) {}
 
   int node(const Statement& st, const Matrix& m) {
     if (st.name == "group" || st.name == "union" || st.name == "color" || st.name == "render") {
@@ -419,6 +480,7 @@ class SceneBuilder {
       return op(CsgNode::Kind::kUnion, children(st, multiply(m, read_.matrix(st))));
     }
     const Primitive p = read_.primitive(st);
+    budget_.add(st, p);
     TriMesh mesh;
     if (p.kind == Primitive::Kind::kCube) {
       mesh = unit_box();
@@ -501,6 +563,7 @@ class SceneBuilder {
 
   Scene& scene_;
   StatementReader read_;
+  TriangleBudget budget_;
 };
 
 // Euler angles (degrees, rotate([ax, ay, az]): R = Rz Ry Rx) of a rotation matrix.
@@ -516,8 +579,9 @@ Vec3 euler_angles(const std::array<double, 9>& r) {
 // The model as tree-file JSON: leaves with translate, rotate and their sizes.
 class TreeBuilder {
  public:
-  TreeBuilder(const std::string& source, std::map<std::string, int>& fragments)
-      : read_(source), fragments_(fragments) {}
+  TreeBuilder(const std::string& source, std::map<std::string, int>& fragments,
+              std::size_t max_triangles)
+      : read_(source), budget_(read_, max_triangles), fragments_(fragments) {}
 
   // A node's JSON, or null for one with nothing in it.
   nlohmann::ordered_json node(const Statement& st, const Matrix& m) {
@@ -535,6 +599,7 @@ class TreeBuilder {
     }
     if (st.name == "multmatrix") return op("union", children(st, multiply(m, read_.matrix(st))));
     const Primitive p = read_.primitive(st);
+    budget_.add(st, p);
     // World point = A (l + offset) + T, l the primitive's centred local point.
     Vec3 offset{0, 0, 0};
     nlohmann::ordered_json leaf;
@@ -635,6 +700,7 @@ class TreeBuilder {
   }
 
   StatementReader read_;
+  TriangleBudget budget_;
   std::map<std::string, int>& fragments_;
   std::set<std::string> names_;
 };
@@ -643,11 +709,12 @@ const Matrix kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 }  // namespace
 
-Scene parse_openscad_csg(std::string_view text, const std::string& source) {
+Scene parse_openscad_csg(std::string_view text, const std::string& source,
+                         std::size_t max_triangles) {
   Parser parser(text, source);
   const std::vector<Statement> top = parser.statements(false);
   Scene scene;
-  SceneBuilder builder(scene, source);
+  SceneBuilder builder(scene, source, max_triangles);
   std::vector<int> roots;
   for (const Statement& st : top) roots.push_back(builder.node(st, kIdentity));
   scene.root = roots.size() == 1 ? roots.front() : builder.op(CsgNode::Kind::kUnion, roots);
@@ -659,11 +726,12 @@ Scene read_openscad_csg(const std::filesystem::path& path) {
   return parse_openscad_csg(io::read_file(path), path.string());
 }
 
-OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source) {
+OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source,
+                                      std::size_t max_triangles) {
   Parser parser(text, source);
   const std::vector<Statement> top = parser.statements(false);
   std::map<std::string, int> fragments;
-  TreeBuilder builder(source, fragments);
+  TreeBuilder builder(source, fragments, max_triangles);
   std::vector<nlohmann::ordered_json> roots;
   for (const Statement& st : top) roots.push_back(builder.node(st, kIdentity));
   nlohmann::ordered_json root = TreeBuilder::op("union", std::move(roots));

@@ -46,8 +46,9 @@ Affine compose(const Affine& a, const aiMatrix4x4& m) {
   return r;
 }
 
-// assimp's message as one line. Reading from memory, assimp calls the file
-// "$$$___magic___$$$.<hint>" (AI_MEMORYIO_MAGIC_FILENAME); messages get the real name back.
+// assimp's message as one line (it may quote bytes of the file). Reading from memory, assimp
+// calls the file "$$$___magic___$$$.<hint>" (AI_MEMORYIO_MAGIC_FILENAME); messages get the real
+// name back.
 std::string assimp_message(std::string s, const std::string& hint,
                            const std::filesystem::path& path) {
   const std::string magic = std::string("$$$___magic___$$$.") + hint;
@@ -55,17 +56,20 @@ std::string assimp_message(std::string s, const std::string& hint,
     s.replace(at, magic.size(), path.filename().string());
   }
   std::replace_if(
-      s.begin(), s.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+      s.begin(), s.end(), [](char c) { return (c >= 0 && c < 0x20) || c == 0x7f; }, ' ');
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s.empty() ? std::string("unknown error") : s;
 }
 
 // The element counts in the header of an OFF or PLY file, against the file's size: assimp
 // allocates what a header declares before it reads any element, so a few corrupt bytes could
-// otherwise ask for gigabytes. Every element takes at least one byte in either format.
+// otherwise ask for gigabytes. Every element takes at least one byte in either format. A PLY
+// header must also end (an end_header line) within the first kHeaderBytes: assimp runs on past
+// the end of a header that does not end, and hangs or crashes.
 void check_declared_counts(const std::string& bytes, const std::string& hint,
                            const std::string& name) {
-  std::istringstream in(bytes.substr(0, std::min<std::size_t>(bytes.size(), 1 << 16)));
+  constexpr std::size_t kHeaderBytes = std::size_t{1} << 16;
+  std::istringstream in(bytes.substr(0, std::min(bytes.size(), kHeaderBytes)));
   double declared = 0.0;
   std::size_t header_end = 0;
   if (hint == "off") {
@@ -78,6 +82,7 @@ void check_declared_counts(const std::string& bytes, const std::string& hint,
     declared = vertices + faces;
     header_end = static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0));
   } else if (hint == "ply") {
+    bool ended = false;
     for (std::string line; std::getline(in, line);) {
       std::istringstream fields(line);
       std::string keyword, element;
@@ -87,14 +92,46 @@ void check_declared_counts(const std::string& bytes, const std::string& hint,
       }
       if (keyword == "end_header") {
         header_end = static_cast<std::size_t>(std::max<std::streamoff>(in.tellg(), 0));
+        ended = true;
         break;
       }
+    }
+    if (!ended) {
+      fail(name, fmt::format("cannot read mesh (no end_header line ends the PLY header within "
+                             "its first {} bytes)",
+                             kHeaderBytes));
     }
   }
   if (declared > static_cast<double>(bytes.size() - std::min(header_end, bytes.size()))) {
     fail(name, fmt::format("cannot read mesh (the header declares {:.0f} elements, more than "
                            "the file's {} bytes can hold)",
                            declared, bytes.size()));
+  }
+}
+
+// Every face of every mesh of the file as read has corners, and they are vertices of its mesh:
+// assimp's triangulation trusts both (a truncated OFF file gave a face of no corners, and its
+// assertion aborted the program), and its importers do not check them all.
+void check_faces(const aiScene& scene, const std::string& name) {
+  for (unsigned k = 0; k < scene.mNumMeshes; ++k) {
+    const aiMesh* m = scene.mMeshes[k];
+    if (m == nullptr) continue;
+    if ((m->mNumFaces > 0 && m->mFaces == nullptr) ||
+        (m->mNumVertices > 0 && m->mVertices == nullptr)) {
+      fail(name, "cannot read mesh (a mesh without its faces or vertices)");
+    }
+    for (unsigned f = 0; f < m->mNumFaces; ++f) {
+      const aiFace& face = m->mFaces[f];
+      if (face.mNumIndices == 0 || face.mIndices == nullptr) {
+        fail(name, fmt::format("face {} has no corners", f));
+      }
+      for (unsigned c = 0; c < face.mNumIndices; ++c) {
+        if (face.mIndices[c] >= m->mNumVertices) {
+          fail(name, fmt::format("face {} refers to vertex {}, but the mesh has {} vertices", f,
+                                 face.mIndices[c], m->mNumVertices));
+        }
+      }
+    }
   }
 }
 
@@ -118,16 +155,21 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
   const std::string hint = lowercase_extension(path).substr(1);
   check_declared_counts(bytes, hint, name);
   Assimp::Importer importer;
-  // Nothing else that moves vertices: no smoothing, no fixing of normals or of winding (the
-  // winding is fixed below from the signed volume).
-  const aiScene* scene =
-      importer.ReadFileFromMemory(bytes.data(), bytes.size(), aiProcess_Triangulate, hint.c_str());
+  // The file as it is, checked, then triangulated and its identical vertices joined; nothing
+  // else that moves vertices: no smoothing, no fixing of normals or of winding (the winding is
+  // fixed below from the signed volume).
+  const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint.c_str());
   if (scene == nullptr) {
     fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
   }
+  check_faces(*scene, name);
   // Vertices are checked before they are joined: joining compares positions, and a NaN would be
   // merged into a finite vertex instead of reported.
   check_finite(*scene, name);
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+  if (scene == nullptr) {
+    fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
+  }
   scene = importer.ApplyPostProcessing(aiProcess_JoinIdenticalVertices);
   if (scene == nullptr) {
     fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");

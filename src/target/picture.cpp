@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -44,19 +45,37 @@ Picture decode_with_stb(const std::string& bytes, const std::string& name) {
     check_size(width, height, name);
   }
   // Grey and alpha: a transparent background counts as white (icons are often drawn as dark
-  // shapes on a transparent background).
+  // shapes on a transparent background). stb converts to them itself, except from binary PNM
+  // (P5, P6, which it reads whatever the file's name): with 16-bit samples its conversion reads
+  // past its buffer, so those come in their own channels and are converted below as stb would.
+  const bool pnm = bytes.size() >= 2 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '6');
   std::unique_ptr<unsigned char, StbFree> data(
-      stbi_load_from_memory(data_in, size, &width, &height, &channels, 2));
+      stbi_load_from_memory(data_in, size, &width, &height, &channels, pnm ? 0 : 2));
   if (!data) {
-    const char* reason = stbi_failure_reason();
-    fail(name, std::string("cannot read image (") + (reason ? reason : "unknown error") + ")");
+    // stb names an unknown PNG chunk by its four bytes, as they are in the file.
+    std::string reason = stbi_failure_reason() ? stbi_failure_reason() : "unknown error";
+    std::replace_if(
+        reason.begin(), reason.end(), [](char c) { return c < 0x20 || c > 0x7e; }, '?');
+    fail(name, "cannot read image (" + reason + ")");
   }
+  // stb's own answer, which need not be what stbi_info said (or stbi_info may have failed):
+  // a PNM header of width or height 0 decodes to an image of no pixels.
+  if (width < 1 || height < 1) {
+    fail(name, fmt::format("cannot read image (the width and height must be at least 1, got {}x{})",
+                           width, height));
+  }
+  check_size(width, height, name);
   Picture b;
   b.width = width;
   b.height = height;
   b.inside.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  const int stride = pnm ? channels : 2;
+  if (stride < 1 || stride > 4) fail(name, fmt::format("cannot read image ({} channels)", stride));
   for (std::size_t i = 0; i < b.inside.size(); ++i) {
-    const int grey = data.get()[2 * i], alpha = data.get()[2 * i + 1];
+    const unsigned char* p = data.get() + static_cast<std::size_t>(stride) * i;
+    // Luminance as stb computes it (stbi__compute_y); alpha 255 where there is none.
+    const int grey = stride >= 3 ? (p[0] * 77 + p[1] * 150 + p[2] * 29) >> 8 : p[0];
+    const int alpha = stride == 2 ? p[1] : stride == 4 ? p[3] : 255;
     // Over white: grey * a + 255 * (1 - a), in units of 1/255^2; dark below one half.
     const int value = grey * alpha + 255 * (255 - alpha);
     b.inside[i] = 2 * value < 255 * 255 ? 1 : 0;

@@ -158,6 +158,75 @@ TEST(DiffcsgOpenscad, UnsupportedNodesAndBrokenTextAreRefusedNamingTheLine) {
             2u);
 }
 
+// Both readers' message for `text`, or "accepted".
+std::string scene_error(const std::string& text, std::size_t max_triangles) {
+  try {
+    parse_openscad_csg(text, "m.csg", max_triangles);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+std::string tree_error(const std::string& text, std::size_t max_triangles) {
+  try {
+    parse_openscad_csg_tree(text, "m.csg", max_triangles);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+// Statements and vectors nest at most 512 deep: deeper ones overflowed the stack.
+TEST(DiffcsgOpenscad, DeepNestingIsRefusedNotAStackOverflow) {
+  constexpr int kDeep = 200000;
+  std::string vectors = "cube(";
+  vectors.append(kDeep, '[');
+  vectors.append(kDeep, ']');
+  vectors += ");";
+  std::string chain;
+  for (int i = 0; i < kDeep; ++i) chain += "group() ";
+  chain += "cube(1);";
+  std::string braces;
+  for (int i = 0; i < kDeep; ++i) braces += "group() {\n";
+  braces += "cube(1);";
+  braces.append(kDeep, '}');
+  for (const std::string* text : {&vectors, &chain, &braces}) {
+    const std::string line = text == &braces ? "513" : "1";
+    EXPECT_EQ(scene_error(*text, kMaxOpenscadTriangles),
+              "m.csg: line " + line + ": nested deeper than 512 levels");
+    EXPECT_EQ(tree_error(*text, kMaxOpenscadTriangles),
+              "m.csg: line " + line + ": nested deeper than 512 levels");
+  }
+  // 511 groups around a cube: 512 statements.
+  std::string deepest;
+  for (int i = 0; i < 511; ++i) deepest += "group() {\n";
+  deepest += "cube(1);";
+  deepest.append(511, '}');
+  EXPECT_EQ(parse_openscad_csg(deepest, "m.csg").primitives.size(), 1u);
+  EXPECT_EQ(parse_openscad_csg_tree(deepest, "m.csg").tree.nodes.size(), 1u);
+}
+
+// A model's triangles in all are bounded, as a primitive's fragments are: a few bytes asked for
+// any number of spheres of 4096 fragments (16777212 triangles each).
+TEST(DiffcsgOpenscad, ModelsOfTooManyTrianglesAreRefusedBeforeTessellation) {
+  // Two spheres at the limit of fragments fit, with 8 triangles to spare (the tree reader
+  // tessellates nothing, so this costs nothing).
+  const std::string two = "sphere($fn = 4096, r = 1);\nsphere($fn = 4096, r = 2);\n";
+  EXPECT_EQ(tree_error(two, kMaxOpenscadTriangles), "accepted");
+  EXPECT_EQ(tree_error(two + "cube(1);\n", kMaxOpenscadTriangles),
+            "m.csg: line 3: cube: 33554436 triangles in the model with it, at most 33554432");
+  // The count is the scene's: a cube (12), a sphere of 8 fragments (60) and a cone of 6 (10).
+  const std::string small =
+      "cube(1);\nsphere($fn = 8, r = 1);\ncylinder($fn = 6, h = 1, r1 = 1, r2 = 0);\n";
+  EXPECT_EQ(parse_openscad_csg(small, "m.csg", 82).triangle_count(), 82u);
+  EXPECT_EQ(tree_error(small, 82), "accepted");
+  for (const auto& error : {scene_error(small, 81), tree_error(small, 81)}) {
+    EXPECT_EQ(error, "m.csg: line 3: cylinder: 82 triangles in the model with it, at most 81");
+  }
+  EXPECT_EQ(scene_error(small, 71),
+            "m.csg: line 2: sphere: 72 triangles in the model with it, at most 71");
+}
+
 // The same depth and primitive at every pixel but a few on edges.
 void expect_same_image(const Scene& a_scene, const Scene& b_scene, double azimuth,
                        double elevation) {

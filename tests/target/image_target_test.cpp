@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/picture.hpp"
 #include "fuzzycsg/target/signed_distance_grid.hpp"
 #include "fuzzycsg/target/target.hpp"
 #include "test_support.hpp"
@@ -388,6 +389,62 @@ TEST(ImageTarget, BadFiles) {
   const std::string long_strip = write_png(dir, "strip.png", draw(5000, 1, in_disc));
   expect_error(long_strip, "5000x1 pixels is too large for the native resolution (at most 4096)",
                TargetOptions{0.2, 0, 0});
+}
+
+// A decoder's reason is part of the one-line message: stb names an unknown PNG chunk by the four
+// bytes of its type, as they are in the file, newlines included.
+TEST(ImageTarget, DecoderReasonsStayOnOneLine) {
+  TempDir dir;
+  const std::string ok = write_png(dir, "ok.png", draw(8, 8, in_disc));
+  std::string png;
+  {
+    std::ifstream in(ok, std::ios::binary);
+    png.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // After the signature (8 bytes) and IHDR (25): an empty critical chunk of type "\nP\nX".
+  png.insert(33, std::string("\x00\x00\x00\x00\nP\nX\x00\x00\x00\x00", 12));
+  const std::string path = dir.write("chunk.png", png);
+  const std::string e = load_error(path);
+  EXPECT_EQ(e, path + ": cannot read image (?P?X PNG chunk not known)");
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
+// stb_image decodes a PNM header of width or height 0 to an image of no pixels, which
+// read_picture passed on.
+TEST(ImageTarget, PicturesOfNoPixelsAreRefused) {
+  TempDir dir;
+  for (const auto& [header, size] :
+       {std::pair{"P5 0 3 255\n", "0x3"}, std::pair{"P5 3 0 255\n", "3x0"}}) {
+    const std::string path = dir.write(std::string("empty_") + size + ".png", header);
+    const std::string message =
+        path + ": cannot read image (the width and height must be at least 1, got " + size + ")";
+    EXPECT_EQ(load_error(path), message);
+    try {
+      read_picture(path, path);
+      ADD_FAILURE() << "read " << path;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.what(), message);
+    }
+  }
+}
+
+// stb_image reads binary PNM whatever the file's name; converting 16-bit samples to grey and
+// alpha it read past its buffer, and the first pixel came out white.
+TEST(ImageTarget, SixteenBitPnmThroughStb) {
+  TempDir dir;
+  // Dark, light / light, dark: in grey (P5) and in colour (P6: red, white / white, blue).
+  const std::string grey = "P5 2 2 65535\n"s + std::string("\x00\x00\xff\xff\xff\xff\x00\x00", 8);
+  const std::string colour = "P6 2 2 65535\n"s + std::string(2, '\xff') + std::string(4, '\x00') +
+                             std::string(12, '\xff') + std::string(4, '\x00') +
+                             std::string(2, '\xff');
+  for (const auto& [name, bytes] :
+       {std::pair{"grey16.png", grey}, std::pair{"colour16.png", colour}}) {
+    SCOPED_TRACE(name);
+    const fuzzycsg::Picture p = read_picture(dir.write(name, bytes), name);
+    EXPECT_EQ(p.width, 2);
+    EXPECT_EQ(p.height, 2);
+    EXPECT_EQ(p.inside, (std::vector<std::uint8_t>{1, 0, 0, 1}));
+  }
 }
 
 }  // namespace

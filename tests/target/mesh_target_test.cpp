@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/mesh_file.hpp"
 #include "fuzzycsg/target/target.hpp"
 #include "mesh_support.hpp"
 #include "test_support.hpp"
@@ -494,6 +495,37 @@ TEST(MeshTarget, BadFiles) {
                "the header declares 2000000001 elements");
   expect_error(dir.write("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n"),
                "no triangles");
+}
+
+// A PLY header that does not end is refused before assimp, which runs on past it: a binary
+// one crashed it, an ASCII one made it loop without end.
+TEST(MeshTarget, PlyHeaderWithoutEndHeaderIsRefused) {
+  TempDir dir;
+  const std::string message =
+      "cannot read mesh (no end_header line ends the PLY header within its first 65536 bytes)";
+  for (const auto& [name, text] :
+       {std::pair{"binary.ply", "ply\nformat binary_little_endian 1.0\n)\0\0"s},
+        std::pair{"ascii.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n0\n"s},
+        std::pair{"long.ply",
+                  "ply\nformat ascii 1.0\n" + std::string(70000, '\n') + "end_header\n"}}) {
+    SCOPED_TRACE(name);
+    const std::string path = dir.write(name, text);
+    EXPECT_EQ(load_error(path), path + ": " + message);
+    try {
+      read_mesh_file(path);
+      ADD_FAILURE() << "read_mesh_file read " << name;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": " + message);
+    }
+  }
+}
+
+// Faces are checked before assimp triangulates them: a truncated OFF file made a face of no
+// corners, and assimp's assertion aborted the program.
+TEST(MeshTarget, FacesWithoutCornersAreRefused) {
+  TempDir dir;
+  const std::string path = dir.write("truncated.off", "OFF\n3 1 0\n0 0 1 2\n");
+  EXPECT_EQ(load_error(path), path + ": face 0 has no corners");
 }
 
 // The normalisation maps the mesh's own coordinates to the box it is labelled in: the bounding

@@ -11,7 +11,14 @@
 // a cylinder two circles of that many points (a cone's apex is one point). Any other node
 // (linear_extrude, polyhedron, import, ...) is refused with one line naming the file, the line and
 // the node.
+//
+// Limits, so that a few bytes cannot exhaust the stack or the memory: statements and vectors
+// nested more than 512 deep are refused, as are a sphere or cylinder of more than
+// kMaxFragments fragments and a model of more than `max_triangles` triangles in all (counted as
+// parse_openscad_csg tessellates it), each naming the line, by both readers and before any
+// tessellation is made.
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -20,9 +27,14 @@
 
 namespace fuzzycsg::diffcsg {
 
+// The most triangles of a model by default: two spheres at the limit of fragments (a sphere of
+// 4096 fragments has 16777212 triangles), about a gigabyte of meshes.
+inline constexpr std::size_t kMaxOpenscadTriangles = std::size_t{1} << 25;
+
 Scene read_openscad_csg(const std::filesystem::path& path);
 // `source` names the text in messages.
-Scene parse_openscad_csg(std::string_view text, const std::string& source);
+Scene parse_openscad_csg(std::string_view text, const std::string& source,
+                         std::size_t max_triangles = kMaxOpenscadTriangles);
 
 // The model as a tree file, for refinement: each primitive's accumulated multmatrix becomes the
 // leaf's translate and rotate (Euler angles), its scales folded into the primitive's fields (a
@@ -36,7 +48,8 @@ struct OpenscadModel {
   TessellationOptions tessellation;
 };
 OpenscadModel read_openscad_csg_tree(const std::filesystem::path& path);
-OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source);
+OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& source,
+                                      std::size_t max_triangles = kMaxOpenscadTriangles);
 
 // OpenSCAD's get_fragments_from_r, saturated at the largest int. The readers above refuse a
 // primitive with more than kMaxFragments, naming its line.
