@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstdio>
@@ -19,11 +20,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::fuzz {
 
@@ -40,6 +44,30 @@ inline void check_message(const char* target, const InputError& e) {
   if (message.empty() || message.find('\n') != std::string_view::npos ||
       message.find('\r') != std::string_view::npos) {
     bug(target, "an InputError message is not one non-empty line", message);
+  }
+}
+
+// What any loaded target owes: crisp occupancy (0 or 1) at `points`, and 16 boundary samples
+// within `bound` of the origin along every axis, with finite normals.
+inline void check_crisp_target(const char* target_name, const Target& target,
+                               std::span<const float> points, float bound) {
+  const auto dim = static_cast<std::size_t>(target.dim());
+  std::vector<float> out(points.size() / dim, -1.0f);
+  target.occupancy(points, out);
+  for (const float o : out) {
+    if (o != 0.0f && o != 1.0f) bug(target_name, "an occupancy that is not 0 or 1");
+  }
+  Rng rng(1);
+  std::vector<float> boundary, normals;
+  target.sample_boundary(16, rng, boundary, normals);
+  if (boundary.size() != 16 * dim || normals.size() != 16 * dim) {
+    bug(target_name, "boundary samples missing");
+  }
+  for (const float x : boundary) {
+    if (!(std::abs(x) <= bound)) bug(target_name, "a boundary point outside the box");
+  }
+  for (const float x : normals) {
+    if (!std::isfinite(x)) bug(target_name, "a boundary normal is not finite");
   }
 }
 

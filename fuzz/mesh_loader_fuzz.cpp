@@ -62,22 +62,8 @@ void check_target(const fuzzycsg::Target& target) {
   const fuzzycsg::Similarity s = target.normalisation();
   if (!(std::isfinite(s.scale) && s.scale > 0)) bug(kTarget, "the normalisation's scale is bad");
   const std::vector<float> points = {0, 0, 0, 0.5f, -0.5f, 0.25f, -1, 1, -1, 0.9f, 0.1f, -0.3f};
-  std::vector<float> out(points.size() / 3, -1.0f);
-  target.occupancy(points, out);
-  for (const float o : out) {
-    if (o != 0.0f && o != 1.0f) bug(kTarget, "an occupancy that is not 0 or 1");
-  }
-  fuzzycsg::Rng rng(1);
-  std::vector<float> boundary, normals;
-  target.sample_boundary(16, rng, boundary, normals);
-  if (boundary.size() != 48 || normals.size() != 48) bug(kTarget, "boundary samples missing");
-  for (const float x : boundary) {
-    // Normalised with padding 0.2: every vertex within [-0.8, 0.8] (up to float rounding).
-    if (!(std::abs(x) <= 0.8f + 1e-5f)) bug(kTarget, "a boundary point outside the box");
-  }
-  for (const float x : normals) {
-    if (!std::isfinite(x)) bug(kTarget, "a boundary normal is not finite");
-  }
+  // Normalised with padding 0.2: every vertex within [-0.8, 0.8] (up to float rounding).
+  fuzzycsg::fuzz::check_crisp_target(kTarget, target, points, 0.8f + 1e-5f);
 }
 
 }  // namespace

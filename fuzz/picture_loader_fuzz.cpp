@@ -43,21 +43,8 @@ void check_picture(const fuzzycsg::Picture& p) {
 void check_target(const fuzzycsg::Target& target) {
   if (target.dim() != 2 || target.kind() != "image") bug(kTarget, "an image target not 2D");
   const std::vector<float> points = {0, 0, 0.5f, -0.5f, -1, 1, 0.99f, 0.01f, 2, 0};
-  std::vector<float> out(points.size() / 2, -1.0f);
-  target.occupancy(points, out);
-  for (const float o : out) {
-    if (o != 0.0f && o != 1.0f) bug(kTarget, "an occupancy that is not 0 or 1");
-  }
-  fuzzycsg::Rng rng(1);
-  std::vector<float> boundary, normals;
-  target.sample_boundary(16, rng, boundary, normals);
-  if (boundary.size() != 32 || normals.size() != 32) bug(kTarget, "boundary samples missing");
-  for (const float x : boundary) {
-    if (!(std::abs(x) <= 1.0f)) bug(kTarget, "a boundary point outside [-1, 1]^2");
-  }
-  for (const float x : normals) {
-    if (!std::isfinite(x)) bug(kTarget, "a boundary normal is not finite");
-  }
+  fuzzycsg::fuzz::check_crisp_target(kTarget, target, points, 1.0f);
+  fuzzycsg::Rng rng(2);
   std::vector<float> weighted;
   target.sample_distance_weighted(16, rng, weighted);
   for (const float x : weighted) {
