@@ -1,10 +1,11 @@
-// libFuzzer target: the first byte chooses the kind of file (.pbm, .pgm: our own Netpbm reader;
-// .png: stb_image) and the image target's grid, the rest is written to a file of that extension
-// and read as a picture (read_picture), as a bitmap (trace::read_bitmap) and as an image target
-// (resampling, signed distance field, boundary). InputError with one line is the expected
-// answer to bad input; any other exception, a crash or a sanitizer report is a bug. A picture
-// that reads has a size within the limit and one 0 or 1 per pixel, and the bitmap reader agrees
-// with it; a target that loads answers occupancy with 0 or 1 and samples finite boundary points
+// libFuzzer target: the first byte chooses the file's extension (.pbm, .pgm, .png; Netpbm goes to
+// our own reader by its first bytes, anything else to stb_image) and the image target's grid, the
+// rest is written to a file of that extension and read as a picture (read_picture), as a bitmap
+// (trace::read_bitmap) and as an image target (resampling, signed distance field, boundary).
+// InputError with one line is the expected answer to bad input; any other exception, a crash or
+// a sanitizer report is a bug. A picture that reads has a size within the limit and one 0 or 1
+// per pixel, and the bitmap reader agrees with it; a target that loads answers occupancy with 0
+// or 1 and samples finite boundary points
 // in [-1, 1]^2.
 //
 // stb_image decodes every other format (a Debian shared library, not instrumented): a finding

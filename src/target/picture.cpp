@@ -1,5 +1,5 @@
 // Pictures read as binary masks: PNG, JPEG and the other formats of stb_image, and Netpbm
-// bitmaps and greymaps by a reader of their own.
+// (bitmaps, greymaps and pixmaps) by a reader of their own.
 #include <fmt/format.h>
 #include <stb_image.h>
 
@@ -45,12 +45,9 @@ Picture decode_with_stb(const std::string& bytes, const std::string& name) {
     check_size(width, height, name);
   }
   // Grey and alpha: a transparent background counts as white (icons are often drawn as dark
-  // shapes on a transparent background). stb converts to them itself, except from binary PNM
-  // (P5, P6, which it reads whatever the file's name): with 16-bit samples its conversion reads
-  // past its buffer, so those come in their own channels and are converted below as stb would.
-  const bool pnm = bytes.size() >= 2 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '6');
+  // shapes on a transparent background). Netpbm never comes here (read_picture).
   std::unique_ptr<unsigned char, StbFree> data(
-      stbi_load_from_memory(data_in, size, &width, &height, &channels, pnm ? 0 : 2));
+      stbi_load_from_memory(data_in, size, &width, &height, &channels, 2));
   if (!data) {
     // stb names an unknown PNG chunk by its four bytes, as they are in the file.
     std::string reason = stbi_failure_reason() ? stbi_failure_reason() : "unknown error";
@@ -58,8 +55,7 @@ Picture decode_with_stb(const std::string& bytes, const std::string& name) {
         reason.begin(), reason.end(), [](char c) { return c < 0x20 || c > 0x7e; }, '?');
     fail(name, "cannot read image (" + reason + ")");
   }
-  // stb's own answer, which need not be what stbi_info said (or stbi_info may have failed):
-  // a PNM header of width or height 0 decodes to an image of no pixels.
+  // stb's own answer, which need not be what stbi_info said (or stbi_info may have failed).
   if (width < 1 || height < 1) {
     fail(name, fmt::format("cannot read image (the width and height must be at least 1, got {}x{})",
                            width, height));
@@ -69,13 +65,10 @@ Picture decode_with_stb(const std::string& bytes, const std::string& name) {
   b.width = width;
   b.height = height;
   b.inside.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-  const int stride = pnm ? channels : 2;
-  if (stride < 1 || stride > 4) fail(name, fmt::format("cannot read image ({} channels)", stride));
   for (std::size_t i = 0; i < b.inside.size(); ++i) {
-    const unsigned char* p = data.get() + static_cast<std::size_t>(stride) * i;
-    // Luminance as stb computes it (stbi__compute_y); alpha 255 where there is none.
-    const int grey = stride >= 3 ? (p[0] * 77 + p[1] * 150 + p[2] * 29) >> 8 : p[0];
-    const int alpha = stride == 2 ? p[1] : stride == 4 ? p[3] : 255;
+    const unsigned char* p = data.get() + 2 * i;
+    const int grey = p[0];
+    const int alpha = p[1];
     // Over white: grey * a + 255 * (1 - a), in units of 1/255^2; dark below one half.
     const int value = grey * alpha + 255 * (255 - alpha);
     b.inside[i] = 2 * value < 255 * 255 ? 1 : 0;
@@ -83,82 +76,103 @@ Picture decode_with_stb(const std::string& bytes, const std::string& name) {
   return b;
 }
 
-// Netpbm bitmaps (P1 plain, P4 raw) and greymaps (P2 plain, P5 raw). stb_image reads only the
-// raw greymaps and pixmaps, not bitmaps nor plain text; one reader for all four keeps them
-// consistent.
+// Netpbm: bitmaps (P1 plain, P4 raw), greymaps (P2, P5) and pixmaps (P3, P6). stb_image reads
+// only the raw greymaps and pixmaps, not bitmaps nor plain text, and leaves the pixels of a
+// truncated raster undefined; one reader for all six keeps them consistent.
 class PnmReader {
  public:
   PnmReader(std::string_view bytes, const std::string& name) : s_(bytes), name_(name) {}
 
+  // Whether bytes begin as a Netpbm file ("P1" to "P6"), whatever the file's name.
+  static bool recognises(std::string_view bytes) {
+    return bytes.size() >= 2 && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '6';
+  }
+
   Picture read() {
-    if (s_.size() < 2 || s_[0] != 'P' || s_[1] < '1' || s_[1] > '6') {
-      fail(name_, "cannot read image (not a PBM or PGM file)");
-    }
+    if (!recognises(s_)) fail(name_, "cannot read image (not a Netpbm file: P1 to P6)");
     const char kind = s_[1];
-    if (kind == '3' || kind == '6') {
-      fail(name_, fmt::format("cannot read image (P{} is a colour pixmap; expected a PBM or PGM "
-                              "file: P1, P2, P4 or P5)",
-                              kind));
-    }
     pos_ = 2;
     const bool bitmap = kind == '1' || kind == '4';
     Picture b;
     b.width = number("width");
     b.height = number("height");
     const int maxval = bitmap ? 1 : number("maximum value");
-    if (b.width < 1 || b.height < 1) bad("the width and height must be at least 1");
+    if (b.width < 1 || b.height < 1) {
+      bad(fmt::format("the width and height must be at least 1, got {}x{}", b.width, b.height));
+    }
     if (maxval < 1 || maxval > 65535) bad("the maximum value must be in [1, 65535]");
     check_size(b.width, b.height, name_);
-    const auto w = static_cast<std::size_t>(b.width), h = static_cast<std::size_t>(b.height);
-    b.inside.resize(w * h);
-    if (kind == '4' || kind == '5') {
+    b.inside.resize(static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height));
+    if (kind >= '4') {
       // One whitespace character separates the header from the raster.
       if (pos_ >= s_.size() || !is_space(s_[pos_])) bad("no whitespace after the header");
       ++pos_;
     }
     switch (kind) {
       case '1':
-        for (auto& v : b.inside) {
-          skip_space();
-          if (pos_ >= s_.size()) bad("truncated raster");
-          if (s_[pos_] != '0' && s_[pos_] != '1') bad("expected 0 or 1 in the raster");
-          v = s_[pos_++] == '1' ? 1 : 0;  // 1 is black
-        }
+        read_plain_bits(b);
         break;
-      case '2':
-        for (auto& v : b.inside) {
-          const int value = number("pixel value");
-          if (value > maxval) bad("a sample exceeds the maximum value");
-          v = dark(value, maxval);
-        }
+      case '4':
+        read_raw_bits(b);
         break;
-      case '4': {
-        const std::size_t row = (w + 7) / 8;
-        if (s_.size() - pos_ < row * h) bad("truncated raster");
-        for (std::size_t y = 0; y < h; ++y) {
-          for (std::size_t x = 0; x < w; ++x) {
-            const auto byte = static_cast<unsigned char>(s_[pos_ + y * row + x / 8]);
-            b.inside[y * w + x] = (byte >> (7 - x % 8)) & 1u;
-          }
-        }
+      default:
+        read_samples(b, kind == '3' || kind == '6' ? 3 : 1, kind >= '4', maxval);
         break;
-      }
-      default: {  // '5'
-        const std::size_t bytes = maxval < 256 ? 1 : 2;
-        if (s_.size() - pos_ < bytes * w * h) bad("truncated raster");
-        for (std::size_t i = 0; i < w * h; ++i) {
-          const auto* p = reinterpret_cast<const unsigned char*>(s_.data() + pos_ + bytes * i);
-          const int value = bytes == 1 ? p[0] : (p[0] << 8) | p[1];  // big-endian
-          if (value > maxval) bad("a sample exceeds the maximum value");
-          b.inside[i] = dark(value, maxval);
-        }
-        break;
-      }
     }
     return b;
   }
 
  private:
+  void read_plain_bits(Picture& b) {
+    for (auto& v : b.inside) {
+      skip_space();
+      if (pos_ >= s_.size()) bad("truncated raster");
+      if (s_[pos_] != '0' && s_[pos_] != '1') bad("expected 0 or 1 in the raster");
+      v = s_[pos_++] == '1' ? 1 : 0;  // 1 is black
+    }
+  }
+
+  void read_raw_bits(Picture& b) const {
+    const auto w = static_cast<std::size_t>(b.width), h = static_cast<std::size_t>(b.height);
+    const std::size_t row = (w + 7) / 8;
+    if (s_.size() - pos_ < row * h) bad("truncated raster");
+    for (std::size_t y = 0; y < h; ++y) {
+      for (std::size_t x = 0; x < w; ++x) {
+        const auto byte = static_cast<unsigned char>(s_[pos_ + y * row + x / 8]);
+        b.inside[y * w + x] = (byte >> (7 - x % 8)) & 1u;
+      }
+    }
+  }
+
+  // Grey (one sample a pixel) or colour (three), as text or raw (big-endian when maxval > 255).
+  // Colour becomes its luminance as stb_image computes it (stbi__compute_y).
+  void read_samples(Picture& b, int samples, bool raw, int maxval) {
+    const std::size_t bytes = maxval < 256 ? 1 : 2;
+    if (raw && (s_.size() - pos_) / bytes / static_cast<std::size_t>(samples) < b.inside.size()) {
+      bad("truncated raster");
+    }
+    const auto sample = [&] {
+      int value = 0;
+      if (raw) {
+        const auto* p = reinterpret_cast<const unsigned char*>(s_.data() + pos_);
+        value = bytes == 1 ? p[0] : (p[0] << 8) | p[1];
+        pos_ += bytes;
+      } else {
+        value = number("pixel value");
+      }
+      if (value > maxval) bad("a sample exceeds the maximum value");
+      return value;
+    };
+    for (auto& v : b.inside) {
+      int grey = sample();
+      if (samples == 3) {
+        const int green = sample(), blue = sample();
+        grey = (grey * 77 + green * 150 + blue * 29) >> 8;
+      }
+      v = dark(grey, maxval);
+    }
+  }
+
   static bool is_space(char c) {
     return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
   }
@@ -205,8 +219,10 @@ class PnmReader {
 Picture read_picture(const std::filesystem::path& path, const std::string& name) {
   const std::string bytes = target_detail::read_file_bytes(path, name);
   const std::string ext = target_detail::lowercase_extension(path);
-  return ext == ".pbm" || ext == ".pgm" ? PnmReader(bytes, name).read()
-                                        : decode_with_stb(bytes, name);
+  // Netpbm by its first bytes, whatever the name; a .pbm or .pgm that is not one says so.
+  return PnmReader::recognises(bytes) || ext == ".pbm" || ext == ".pgm"
+             ? PnmReader(bytes, name).read()
+             : decode_with_stb(bytes, name);
 }
 
 }  // namespace fuzzycsg

@@ -63,7 +63,7 @@ class Bitmap {
   std::vector<std::uint64_t> bits_;
 };
 
-// A picture file as a bitmap: PNG, JPEG, ... (stb_image) and Netpbm PBM/PGM, read as
+// A picture file as a bitmap: PNG, JPEG, ... (stb_image) and Netpbm P1 to P6, read as
 // fuzzycsg/target/picture.hpp reads them (luminance, alpha over white, dark below one half is
 // set). Throws InputError with one line naming the file for unreadable, corrupt or too large
 // pictures (more than 8192^2 pixels).
