@@ -15,6 +15,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/snap.hpp"
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/fit/metrics.hpp"
 #include "fuzzycsg/fit/prune.hpp"

@@ -22,6 +22,7 @@
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/files.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/convert.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"
@@ -266,7 +267,7 @@ TreeFiles tree_files(const CsgTree& tree, const Bitmap& target, bool svg) {
   const int scale = trace::display_scale(target.width(), target.height());
   const int svg_scale = trace::display_scale(target.width(), target.height(), 512);
   TreeFiles f;
-  f.tree_json = trace::to_tree_json(tree, target.width(), target.height());
+  f.tree_json = io::write_tree_string(trace::to_tree(tree, target.width(), target.height()));
   f.result_png = trace::result_png(e.result(), target, scale);
   if (svg) f.primitives_svg = trace::primitives_svg(tree, e.result(), target, svg_scale);
   return f;
@@ -366,7 +367,7 @@ int run_trace(const TraceArgs& a) {
     r["after"] = score_json(refined->after, refined->tree);
     r["final_loss"] = refined->loss.empty() ? 0.0 : refined->loss.back();
     report["refine"] = r;
-    search_tree = trace::to_tree_json(best.best, target.width(), target.height());
+    search_tree = io::write_tree_string(trace::to_tree(best.best, target.width(), target.height()));
     best.best = refined->tree;
     best.score = refined->after;
   }
@@ -511,8 +512,8 @@ int run_morph(const MorphArgs& a) {
   report["statistics"] = statistics_json(m.statistics);
   report["frames"] = frame_list;
 
-  io::write_text_file_atomic(out / "first.json", trace::to_tree_json(m.first, width, height));
-  io::write_text_file_atomic(out / "second.json", trace::to_tree_json(m.second, width, height));
+  io::write_tree_file(trace::to_tree(m.first, width, height), out / "first.json");
+  io::write_tree_file(trace::to_tree(m.second, width, height), out / "second.json");
   io::write_text_file_atomic(out / "morph.gif", gif);
   io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
 

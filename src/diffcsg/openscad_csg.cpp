@@ -2,8 +2,6 @@
 
 #include <fmt/core.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -17,8 +15,8 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/tree_builder.hpp"
 #include "fuzzycsg/io/files.hpp"
-#include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg::diffcsg {
 
@@ -576,38 +574,55 @@ Vec3 euler_angles(const std::array<double, 9>& r) {
   return {0, ay * deg, std::atan2(-r[1], r[4]) * deg};
 }
 
-// The model as tree-file JSON: leaves with translate, rotate and their sizes.
-class TreeBuilder {
+// The model as a tree: leaves with translate, rotate and their sizes, crisp.
+class ModelBuilder {
  public:
-  TreeBuilder(const std::string& source, std::map<std::string, int>& fragments,
-              std::size_t max_triangles)
-      : read_(source), budget_(read_, max_triangles), fragments_(fragments) {}
+  ModelBuilder(const std::string& source, std::map<std::string, int>& fragments,
+               std::size_t max_triangles, TreeBuilder& tree)
+      : read_(source), budget_(read_, max_triangles), fragments_(fragments), tree_(tree) {}
 
-  // A node's JSON, or null for one with nothing in it.
-  nlohmann::ordered_json node(const Statement& st, const Matrix& m) {
+  // A node of the tree, or none for one with nothing in it.
+  std::optional<int> node(const Statement& st, const Matrix& m) {
     if (st.name == "group" || st.name == "union" || st.name == "color" || st.name == "render") {
-      return op("union", children(st, m));
+      return op(OpKind::kUnion, children(st, m));
     }
-    if (st.name == "intersection") return op("intersection", children(st, m));
+    if (st.name == "intersection") return op(OpKind::kIntersection, children(st, m));
     if (st.name == "difference") {
-      std::vector<nlohmann::ordered_json> c = children(st, m);
-      if (c.empty()) return nullptr;
-      nlohmann::ordered_json first = std::move(c.front());
+      std::vector<std::optional<int>> c = children(st, m);
+      if (c.empty()) return std::nullopt;
+      const std::optional<int> first = c.front();
       c.erase(c.begin());
       if (c.empty()) return first;
-      return op("difference", {std::move(first), op("union", std::move(c))});
+      return op(OpKind::kDifference, {first, op(OpKind::kUnion, std::move(c))});
     }
-    if (st.name == "multmatrix") return op("union", children(st, multiply(m, read_.matrix(st))));
+    if (st.name == "multmatrix") {
+      return op(OpKind::kUnion, children(st, multiply(m, read_.matrix(st))));
+    }
+    return leaf(st, m);
+  }
+
+  // An operator over the children that are not empty: none when all are, the child itself when
+  // one is.
+  std::optional<int> op(OpKind kind, std::vector<std::optional<int>> c) {
+    std::vector<int> nodes;
+    for (const auto& n : c) {
+      if (n) nodes.push_back(*n);
+    }
+    if (nodes.empty()) return std::nullopt;
+    if (nodes.size() == 1) return nodes.front();
+    return tree_.op(kind, std::move(nodes));
+  }
+
+ private:
+  int leaf(const Statement& st, const Matrix& m) {
     const Primitive p = read_.primitive(st);
     budget_.add(st, p);
     // World point = A (l + offset) + T, l the primitive's centred local point.
     Vec3 offset{0, 0, 0};
-    nlohmann::ordered_json leaf;
     std::string name = fmt::format("{} line {}", st.name, st.line);
     for (int k = 2; names_.count(name); ++k)
       name = fmt::format("{} line {} #{}", st.name, st.line, k);
     names_.insert(name);
-    leaf["name"] = name;
     std::array<double, 9> a{m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
     Vec3 scale{};
     for (std::size_t c = 0; c < 3; ++c) {
@@ -636,19 +651,21 @@ class TreeBuilder {
       r[6] = -r[6];
     }
     const auto same = [](double x, double y) { return std::abs(x - y) <= 1e-9 * std::max(x, y); };
+    PrimitiveType type = PrimitiveType::kBox;
+    std::vector<Number> fields;
     switch (p.kind) {
       case Primitive::Kind::kCube:
         if (!p.center) offset = {p.size[0] / 2, p.size[1] / 2, p.size[2] / 2};
-        leaf["type"] = "box";
-        leaf["size"] = {p.size[0] * scale[0], p.size[1] * scale[1], p.size[2] * scale[2]};
+        type = PrimitiveType::kBox;
+        fields = {p.size[0] * scale[0], p.size[1] * scale[1], p.size[2] * scale[2]};
         break;
       case Primitive::Kind::kSphere:
         if (same(scale[0], scale[1]) && same(scale[1], scale[2])) {
-          leaf["type"] = "sphere";
-          leaf["radius"] = p.r * scale[0];
+          type = PrimitiveType::kSphere;
+          fields = {p.r * scale[0]};
         } else {
-          leaf["type"] = "ellipsoid";
-          leaf["radii"] = {p.r * scale[0], p.r * scale[1], p.r * scale[2]};
+          type = PrimitiveType::kEllipsoid;
+          fields = {p.r * scale[0], p.r * scale[1], p.r * scale[2]};
         }
         break;
       case Primitive::Kind::kCylinder:
@@ -659,14 +676,11 @@ class TreeBuilder {
                      "no tree family is");
         }
         if (p.r1 == p.r2) {
-          leaf["type"] = "cylinder";
-          leaf["radius"] = p.r1 * scale[0];
-          leaf["height"] = p.h * scale[2];
+          type = PrimitiveType::kCylinder;
+          fields = {p.r1 * scale[0], p.h * scale[2]};
         } else {
-          leaf["type"] = "cone";
-          leaf["radius1"] = p.r1 * scale[0];
-          leaf["radius2"] = p.r2 * scale[0];
-          leaf["height"] = p.h * scale[2];
+          type = PrimitiveType::kCone;
+          fields = {p.r1 * scale[0], p.r2 * scale[0], p.h * scale[2]};
         }
         break;
     }
@@ -675,26 +689,17 @@ class TreeBuilder {
       t[row] += a[row * 3] * offset[0] + a[row * 3 + 1] * offset[1] + a[row * 3 + 2] * offset[2];
     }
     const Vec3 angles = euler_angles(r);
-    leaf["translate"] = {t[0], t[1], t[2]};
-    leaf["rotate"] = {angles[0], angles[1], angles[2]};
-    leaf["step"] = "crisp";
+    const int leaf = tree_.leaf(type, fields);
+    tree_.name(leaf, name);
+    tree_.translate(leaf, std::vector<Number>{t[0], t[1], t[2]});
+    tree_.rotate(leaf, std::vector<Number>{angles[0], angles[1], angles[2]});
+    tree_.crisp(leaf);
     if (p.kind != Primitive::Kind::kCube) fragments_[name] = p.fragments;
     return leaf;
   }
 
-  static nlohmann::ordered_json op(const char* kind, std::vector<nlohmann::ordered_json> c) {
-    std::erase_if(c, [](const nlohmann::ordered_json& j) { return j.is_null(); });
-    if (c.empty()) return nullptr;
-    if (c.size() == 1) return std::move(c.front());
-    nlohmann::ordered_json out;
-    out["op"] = kind;
-    out["children"] = std::move(c);
-    return out;
-  }
-
- private:
-  std::vector<nlohmann::ordered_json> children(const Statement& st, const Matrix& m) {
-    std::vector<nlohmann::ordered_json> out;
+  std::vector<std::optional<int>> children(const Statement& st, const Matrix& m) {
+    std::vector<std::optional<int>> out;
     for (const Statement& c : st.children) out.push_back(node(c, m));
     return out;
   }
@@ -702,6 +707,7 @@ class TreeBuilder {
   StatementReader read_;
   TriangleBudget budget_;
   std::map<std::string, int>& fragments_;
+  TreeBuilder& tree_;
   std::set<std::string> names_;
 };
 
@@ -731,17 +737,13 @@ OpenscadModel parse_openscad_csg_tree(std::string_view text, const std::string& 
   Parser parser(text, source);
   const std::vector<Statement> top = parser.statements(false);
   std::map<std::string, int> fragments;
-  TreeBuilder builder(source, fragments, max_triangles);
-  std::vector<nlohmann::ordered_json> roots;
+  TreeBuilder tree(3);
+  ModelBuilder builder(source, fragments, max_triangles, tree);
+  std::vector<std::optional<int>> roots;
   for (const Statement& st : top) roots.push_back(builder.node(st, kIdentity));
-  nlohmann::ordered_json root = TreeBuilder::op("union", std::move(roots));
-  if (root.is_null()) throw InputError(fmt::format("{}: no primitives", source));
-  nlohmann::ordered_json file;
-  file["format"] = "fuzzycsg-tree";
-  file["version"] = 1;
-  file["dim"] = 3;
-  file["root"] = std::move(root);
-  OpenscadModel out{io::read_tree_string(file.dump(), source), {}};
+  const std::optional<int> root = builder.op(OpKind::kUnion, std::move(roots));
+  if (!root) throw InputError(fmt::format("{}: no primitives", source));
+  OpenscadModel out{std::move(tree).finish(*root, source), {}};
   for (std::size_t i = 0; i < out.tree.nodes.size(); ++i) {
     const Node& n = out.tree.nodes[i];
     if (n.kind != NodeKind::kPrimitive) continue;

@@ -1,4 +1,5 @@
 #include "fuzzycsg/diffcsg/scene.hpp"
+#include "fuzzycsg/core/snap.hpp"
 
 #include <fmt/core.h>
 
@@ -10,7 +11,6 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/placement.hpp"
-#include "fuzzycsg/fit/prune.hpp"
 
 namespace fuzzycsg::diffcsg {
 

@@ -1,4 +1,5 @@
 #include "fuzzycsg/fit/fit.hpp"
+#include "fuzzycsg/core/snap.hpp"
 
 #include <fmt/core.h>
 

@@ -1,5 +1,4 @@
-// Snapping unified operators to crisp booleans and pruning redundant nodes (Liu et al. 2024
-// App. A, after Tilove 1984).
+// Pruning redundant nodes (Liu et al. 2024 App. A, after Tilove 1984).
 #include "fuzzycsg/fit/prune.hpp"
 
 #include <tbb/parallel_for.h>
@@ -18,15 +17,12 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/logic.hpp"
+#include "fuzzycsg/core/tree_builder.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
-#include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg {
 
 namespace {
-
-constexpr std::array<OpKind, 4> kSnapped = {OpKind::kIntersection, OpKind::kUnion,
-                                            OpKind::kDifference, OpKind::kDifference};
 
 // The nodes reachable from `root` (children are indices into `nodes`, parameters refer to
 // `source.params`) as a tree of their own whose table holds only the parameters they use, in
@@ -66,12 +62,6 @@ Tree extract(const Tree& source, const std::vector<Node>& nodes, int root) {
   }
   out.root = 0;
   return out;
-}
-
-// Writing and reading back names every inline parameter by its node path and orders the table
-// as a tree file would be read (the writer reproduces values bit for bit).
-Tree canonical(const Tree& tree) {
-  return io::read_tree_string(io::write_tree_string(tree), "pruned tree");
 }
 
 // A leaf that is exactly empty (or full) on the domain and at the points, its parameters added
@@ -622,48 +612,6 @@ Tree shrink(Tree tree, std::span<const float> points, std::span<const float> ref
 }
 
 }  // namespace
-
-int snapped_operator(const Tree& tree, int node) {
-  if (node < 0 || static_cast<std::size_t>(node) >= tree.nodes.size()) {
-    throw Error("snapped_operator: node index " + std::to_string(node) + " is out of range");
-  }
-  const Node& n = tree.node(node);
-  if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified || n.unified.size() != 4) {
-    throw Error("snapped_operator: node " + std::to_string(node) + " is not a unified operator");
-  }
-  std::array<double, 4> c{};
-  for (std::size_t k = 0; k < 4; ++k) c[k] = tree.params.at(n.unified[k].index).value;
-  if (n.unified_logits) {
-    if (!n.temperature || !n.omega) {
-      throw Error("snapped_operator: node " + std::to_string(node) +
-                  " has logits but no temperature or omega");
-    }
-    c = logic::unified_weights(c, tree.params.at(n.temperature->index).value,
-                               tree.params.at(n.omega->index).value);
-  }
-  // max_element returns the first of equal maxima: ties go to the lowest index.
-  return static_cast<int>(std::max_element(c.begin(), c.end()) - c.begin());
-}
-
-Tree snap_operators(const Tree& tree) {
-  validate(tree, "snap_operators");
-  std::vector<Node> nodes = tree.nodes;
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    Node& n = nodes[i];
-    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
-    const int k = snapped_operator(tree, static_cast<int>(i));
-    n.op = kSnapped[static_cast<std::size_t>(k)];
-    n.logic = LogicSpec{};  // product logic, standard complement: B_c at a one-hot c
-    n.complement = ComplementSpec{};
-    n.unified_logits = false;
-    n.unified.clear();
-    n.temperature.reset();
-    n.omega.reset();
-    if (k == 3) std::swap(n.children[0], n.children[1]);  // y \ x
-  }
-  // Weights, temperature and omega are no longer used: extract leaves them out.
-  return canonical(extract(tree, nodes, tree.root));
-}
 
 Tree prune(const Tree& tree, std::span<const float> points, const PruneOptions& options,
            PruneReport* report) {

@@ -15,6 +15,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/fields.hpp"
 #include "fuzzycsg/core/numbers.hpp"
+#include "fuzzycsg/core/tree_builder.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "io_detail.hpp"
 
@@ -335,15 +336,16 @@ class Reader {
     if (!dim) fail("", "missing field \"dim\"");
     const auto d = integer_of(*dim);
     if (!d || (*d != 2 && *d != 3)) fail("dim", "must be 2 or 3 (got " + describe(*dim) + ")");
-    tree_.dim = static_cast<int>(*d);
+    dim_ = static_cast<int>(*d);
+    builder_.emplace(dim_);
 
     if (const Json* parameters = member(doc, "parameters")) read_parameters(*parameters);
-    if (const Json* domain = member(doc, "domain")) tree_.domain = read_box(*domain, "domain");
+    if (const Json* domain = member(doc, "domain"))
+      builder_->set_domain(read_box(*domain, "domain"));
     const Json* root = member(doc, "root");
     if (!root) fail("", "missing field \"root\"");
-    tree_.root = read_node(*root, "root", 0);
-    validate(tree_, source_);
-    return std::move(tree_);
+    const int top = read_node(*root, "root", 0);
+    return std::move(*builder_).finish(top, source_);
   }
 
  private:
@@ -353,13 +355,10 @@ class Reader {
 
   // ---- numbers
 
-  ParamRef add_inline(const std::string& name, double value, bool fixed, const Range& range) {
-    return tree_.params.add(Parameter{name, value, fixed, false, range});
-  }
-
-  // A number field: a plain number, {"value": v, "fixed": b} or {"param": "name"}.
-  ParamRef read_number(const Json& v, const std::string& path, const FieldSpec& spec) {
-    if (v.is_number()) return add_inline(path, v.get<double>(), spec.default_fixed, spec.range);
+  // A number field: a plain number, {"value": v, "fixed": b} or {"param": "name"}. Plain numbers
+  // take the field's default of fixed (the builder knows the field).
+  Number read_number(const Json& v, const std::string& path) {
+    if (v.is_number()) return Number(v.get<double>());
     if (!v.is_object()) fail(path, "expected a number (got " + describe(v) + ")");
     if (const Json* name = member(v, "param")) {
       for (const auto& [key, value] : v.items()) {
@@ -373,17 +372,14 @@ class Reader {
         fail(path, "unknown parameter " + quote(name->get_ref<const std::string&>()) +
                        (shared_.empty() ? " (the file declares no \"parameters\")" : ""));
       }
-      Parameter& p = tree_.params[it->second];
-      p.range = fields::intersect(p.range, spec.range);
-      return it->second;
+      return Number::shared(it->second);
     }
-    const auto [value, fixed] = read_value_object(v, path, spec.default_fixed);
-    return add_inline(path, value, fixed, spec.range);
+    const auto [value, fixed] = read_value_object(v, path);
+    return fixed ? Number::with_fixed(value, *fixed) : Number(value);
   }
 
-  // {"value": v, "fixed": b}
-  std::pair<double, bool> read_value_object(const Json& v, const std::string& path,
-                                            bool default_fixed) {
+  // {"value": v, "fixed": b}; fixed absent when the object does not say.
+  std::pair<double, std::optional<bool>> read_value_object(const Json& v, const std::string& path) {
     for (const auto& [key, value] : v.items()) {
       if (key != "value" && key != "fixed") fail(path, "unknown field " + quote(key));
     }
@@ -392,7 +388,7 @@ class Reader {
     if (!value->is_number()) {
       fail(field_path(path, "value"), "expected a number (got " + describe(*value) + ")");
     }
-    bool fixed = default_fixed;
+    std::optional<bool> fixed;
     if (const Json* f = member(v, "fixed")) {
       if (!f->is_boolean()) {
         fail(field_path(path, "fixed"), "expected true or false (got " + describe(*f) + ")");
@@ -402,8 +398,7 @@ class Reader {
     return {value->get<double>(), fixed};
   }
 
-  std::vector<ParamRef> read_numbers(const Json& v, const std::string& path, const FieldSpec& spec,
-                                     std::size_t n) {
+  std::vector<Number> read_numbers(const Json& v, const std::string& path, std::size_t n) {
     if (!v.is_array()) {
       fail(path,
            "expected an array of " + std::to_string(n) + " numbers (got " + describe(v) + ")");
@@ -412,17 +407,17 @@ class Reader {
       fail(path,
            "expected " + std::to_string(n) + " numbers (got " + std::to_string(v.size()) + ")");
     }
-    std::vector<ParamRef> refs;
-    refs.reserve(n);
-    for (std::size_t k = 0; k < n; ++k) refs.push_back(read_number(v[k], indexed(path, k), spec));
-    return refs;
+    std::vector<Number> numbers;
+    numbers.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) numbers.push_back(read_number(v[k], indexed(path, k)));
+    return numbers;
   }
 
-  // An optional number field: present, or its default materialized as a parameter.
-  ParamRef read_or_default(const Json& object, const std::string& path, const FieldSpec& spec) {
-    const std::string p = field_path(path, spec.name);
-    if (const Json* v = member(object, spec.name)) return read_number(*v, p, spec);
-    return add_inline(p, spec.default_value.value_or(0.0), spec.default_fixed, spec.range);
+  // An optional number field: present, or absent (the builder gives the field's default).
+  std::optional<Number> read_optional(const Json& object, const std::string& path,
+                                      std::string_view field) {
+    if (const Json* v = member(object, field)) return read_number(*v, field_path(path, field));
+    return std::nullopt;
   }
 
   int read_int(const Json& v, const std::string& path, const Range& range) {
@@ -451,16 +446,16 @@ class Reader {
       }
       const std::string path = "parameters." + key;
       double number = 0.0;
-      bool fixed = false;
+      std::optional<bool> fixed;
       if (value.is_number()) {
         number = value.get<double>();
       } else if (value.is_object()) {
-        std::tie(number, fixed) = read_value_object(value, path, false);
+        std::tie(number, fixed) = read_value_object(value, path);
       } else {
         fail(path, "expected a number or {\"value\": v, \"fixed\": true|false} (got " +
                        describe(value) + ")");
       }
-      shared_.emplace(key, tree_.params.add(Parameter{key, number, fixed, true, Range::any()}));
+      shared_.emplace(key, builder_->shared(key, number, fixed.value_or(false)));
     }
   }
 
@@ -474,7 +469,7 @@ class Reader {
       if (key != "min" && key != "max") fail(at, "unknown field " + quote(key));
     }
     Domain domain;
-    const auto n = static_cast<std::size_t>(tree_.dim);
+    const auto n = static_cast<std::size_t>(dim_);
     for (const auto& [key, out] : {std::pair{"min", &domain.min}, std::pair{"max", &domain.max}}) {
       const std::string path = at + "." + key;
       const Json* a = member(v, key);
@@ -512,31 +507,25 @@ class Reader {
       fail(path, v.empty() ? "empty node (expected a primitive \"type\" or an \"op\")"
                            : "missing field \"type\" or \"op\"");
     }
-    const auto index = static_cast<int>(tree_.nodes.size());
-    tree_.nodes.emplace_back();
-    Node node = has_type ? read_leaf(v, path) : read_operator(v, path, depth);
-    tree_.nodes[static_cast<std::size_t>(index)] = std::move(node);
-    return index;
+    return has_type ? read_leaf(v, path) : read_operator(v, path, depth);
   }
 
-  void read_name(const Json& v, const std::string& path, Node& node) {
-    if (const Json* name = member(v, "name")) {
-      if (!name->is_string()) {
-        fail(field_path(path, "name"), "expected a string (got " + describe(*name) + ")");
-      }
-      node.name = name->get<std::string>();
+  std::optional<std::string> read_name(const Json& v, const std::string& path) {
+    const Json* name = member(v, "name");
+    if (!name) return std::nullopt;
+    if (!name->is_string()) {
+      fail(field_path(path, "name"), "expected a string (got " + describe(*name) + ")");
     }
+    return name->get<std::string>();
   }
 
-  Node read_leaf(const Json& v, const std::string& path) {
-    Node node;
-    node.kind = NodeKind::kPrimitive;
+  int read_leaf(const Json& v, const std::string& path) {
     const Json& type = *member(v, "type");
     if (!type.is_string()) {
       fail(field_path(path, "type"), "expected a primitive type name (got " + describe(type) + ")");
     }
     const std::string& type_name = type.get_ref<const std::string&>();
-    const int dim = tree_.dim;
+    const int dim = dim_;
     const auto t = primitive_from_name(type_name, dim);
     if (!t) {
       const int other = 5 - dim;
@@ -548,7 +537,6 @@ class Reader {
       fail(field_path(path, "type"), "unknown primitive type " + quote(type_name));
     }
     const PrimitiveInfo& info = primitive_info(*t);
-    node.shape.type = *t;
     const bool mlp = *t == PrimitiveType::kMlp;
 
     for (const auto& item : v.items()) {
@@ -560,10 +548,11 @@ class Reader {
                                      [&](const FieldSpec& f) { return f.name == key; });
       if (!known) fail(path, "unknown field " + quote(key));
     }
-    read_name(v, path, node);
+    const std::optional<std::string> name = read_name(v, path);
 
+    std::vector<int> layers;
     if (mlp) {
-      node.shape.hidden.assign(fields::kMlpDefaultHidden.begin(), fields::kMlpDefaultHidden.end());
+      layers.assign(fields::kMlpDefaultHidden.begin(), fields::kMlpDefaultHidden.end());
       if (const Json* hidden = member(v, "hidden")) {
         const std::string p = field_path(path, "hidden");
         if (!hidden->is_array()) {
@@ -573,41 +562,39 @@ class Reader {
           fail(p, "must have at most " + std::to_string(fields::kMlpMaxHiddenLayers) +
                       " layers (got " + std::to_string(hidden->size()) + ")");
         }
-        node.shape.hidden.clear();
+        layers.clear();
         for (std::size_t k = 0; k < hidden->size(); ++k) {
-          node.shape.hidden.push_back(
-              read_int((*hidden)[k], indexed(p, k), fields::kMlpHiddenWidth));
+          layers.push_back(read_int((*hidden)[k], indexed(p, k), fields::kMlpHiddenWidth));
         }
       }
     }
 
+    std::vector<Number> intrinsic;
     for (const FieldSpec& field : info.fields) {
       const std::string p = field_path(path, field.name);
       const Json* f = member(v, field.name);
       if (!f) fail(path, "missing field " + quote(field.name));
       switch (field.arity) {
         case Arity::kScalar:
-          node.intrinsic.push_back(read_number(*f, p, field));
+          intrinsic.push_back(read_number(*f, p));
           break;
         case Arity::kFixed: {
-          const auto refs = read_numbers(*f, p, field, static_cast<std::size_t>(field.length));
-          node.intrinsic.insert(node.intrinsic.end(), refs.begin(), refs.end());
+          const auto numbers = read_numbers(*f, p, static_cast<std::size_t>(field.length));
+          intrinsic.insert(intrinsic.end(), numbers.begin(), numbers.end());
           break;
         }
         case Arity::kList: {  // the MLP's weights
-          const auto count =
-              static_cast<std::size_t>(mlp_weight_count(info.dim, node.shape.hidden));
+          const auto count = static_cast<std::size_t>(mlp_weight_count(info.dim, layers));
           if (!f->is_array()) {
             fail(p, "expected an array of " + std::to_string(count) + " numbers (got " +
                         describe(*f) + ")");
           }
           if (f->size() != count) {
             fail(p, "expected " + std::to_string(count) + " numbers for hidden layers " +
-                        hidden_list(node.shape.hidden) + " (got " + std::to_string(f->size()) +
-                        ")");
+                        hidden_list(layers) + " (got " + std::to_string(f->size()) + ")");
           }
-          const auto refs = read_numbers(*f, p, field, count);
-          node.intrinsic.insert(node.intrinsic.end(), refs.begin(), refs.end());
+          const auto numbers = read_numbers(*f, p, count);
+          intrinsic.insert(intrinsic.end(), numbers.begin(), numbers.end());
           break;
         }
         case Arity::kPoints2: {  // the polygon's vertices, the extrude's profile
@@ -627,19 +614,21 @@ class Reader {
                             : describe(vertex)) +
                        ")");
             }
-            const auto refs = read_numbers(vertex, indexed(p, k), field, 2);
-            node.intrinsic.insert(node.intrinsic.end(), refs.begin(), refs.end());
+            const auto numbers = read_numbers(vertex, indexed(p, k), 2);
+            intrinsic.insert(intrinsic.end(), numbers.begin(), numbers.end());
           }
           break;
         }
       }
     }
 
+    const int node = builder_->leaf(*t, intrinsic, std::move(layers));
+    if (name) builder_->name(node, *name);
+
     // Placement.
     if (const Json* translate = member(v, "translate")) {
-      node.placement.translate =
-          read_numbers(*translate, field_path(path, "translate"), fields::translate(dim),
-                       static_cast<std::size_t>(dim));
+      builder_->translate(node, read_numbers(*translate, field_path(path, "translate"),
+                                             static_cast<std::size_t>(dim)));
     }
     if (const Json* rotate = member(v, "rotate")) {
       const FieldSpec spec = fields::rotate(dim);
@@ -648,25 +637,25 @@ class Reader {
         if (rotate->is_array()) {
           fail(p, "expected one angle in degrees (got an array; 2D rotations are one number)");
         }
-        node.placement.rotate.push_back(read_number(*rotate, p, spec));
+        builder_->rotate(node, std::vector<Number>{read_number(*rotate, p)});
       } else {
-        node.placement.rotate =
-            read_numbers(*rotate, p, spec, static_cast<std::size_t>(spec.length));
+        builder_->rotate(node, read_numbers(*rotate, p, static_cast<std::size_t>(spec.length)));
       }
     }
     if (const Json* scale = member(v, "scale")) {
-      node.placement.scale = read_number(*scale, field_path(path, "scale"), fields::kScale);
+      builder_->scale(node, read_number(*scale, field_path(path, "scale")));
     }
 
     // Occupancy.
     const Json* sharpness = member(v, "sharpness");
-    node.step.kind = StepKind::kSigmoid;
+    StepKind step_kind = StepKind::kSigmoid;
     if (const Json* step = member(v, "step")) {
       const std::string p = field_path(path, "step");
       if (step->is_string()) {
         const std::string& s = step->get_ref<const std::string&>();
         if (s == "crisp") {
-          node.step.kind = StepKind::kCrisp;
+          step_kind = StepKind::kCrisp;
+          builder_->crisp(node);
         } else if (s != "sigmoid") {
           fail(p, "unknown step " + quote(s) +
                       " (expected \"sigmoid\", \"crisp\" or {\"hn\": n, \"range\": R})");
@@ -679,27 +668,43 @@ class Reader {
         if (!n) fail(p, "missing field \"hn\"");
         const Json* range = member(*step, "range");
         if (!range) fail(p, "missing field \"range\"");
-        node.step.kind = StepKind::kHn;
-        node.step.n = read_int(*n, field_path(p, "hn"), fields::kHnDegree);
-        node.step.param = read_number(*range, field_path(p, "range"), fields::kStepRange);
+        step_kind = StepKind::kHn;
+        const int degree = read_int(*n, field_path(p, "hn"), fields::kHnDegree);
+        builder_->hn(node, degree, read_number(*range, field_path(p, "range")));
       } else {
         fail(p, "expected \"sigmoid\", \"crisp\" or {\"hn\": n, \"range\": R} (got " +
                     describe(*step) + ")");
       }
     }
-    if (node.step.kind == StepKind::kSigmoid) {
-      node.step.param = read_or_default(v, path, fields::sharpness(*t));
+    if (step_kind == StepKind::kSigmoid) {
+      if (sharpness)
+        builder_->sigmoid(node, read_number(*sharpness, field_path(path, "sharpness")));
     } else if (sharpness) {
       fail(field_path(path, "sharpness"),
            std::string("applies only to sigmoid steps (the step is ") +
-               (node.step.kind == StepKind::kCrisp ? "\"crisp\"" : "{\"hn\": ...}") + ")");
+               (step_kind == StepKind::kCrisp ? "\"crisp\"" : "{\"hn\": ...}") + ")");
     }
     return node;
   }
 
-  Node read_operator(const Json& v, const std::string& path, int depth) {
-    Node node;
-    node.kind = NodeKind::kOperator;
+  // An operator's fields as read, before its children are.
+  struct OperatorFields {
+    OpKind op = OpKind::kUnion;
+    logic::Family family = logic::Family::kProduct;
+    std::optional<Number> p;
+    std::optional<int> n;
+    logic::Complement complement = logic::Complement::kStandard;
+    std::optional<Number> lambda;
+    bool logits = false;
+    std::vector<Number> weights;  // c or logits
+    std::optional<Number> temperature, omega;
+    std::vector<int> cells;
+    int degree = bspline::kDefaultDegree;
+    std::optional<Domain> box;
+  };
+
+  int read_operator(const Json& v, const std::string& path, int depth) {
+    OperatorFields node;
     const Json& op = *member(v, "op");
     if (!op.is_string()) {
       fail(field_path(path, "op"), "expected an operator name (got " + describe(op) + ")");
@@ -729,7 +734,7 @@ class Reader {
         fail(p, "unified nodes use product logic (got " + describe(*logic) + ")");
       }
     }
-    node.logic.family = family;
+    node.family = family;
     const std::string_view p_field = logic::p_field_name(family);
 
     for (const auto& [key, value] : v.items()) {
@@ -754,19 +759,17 @@ class Reader {
       }
       fail(path, "unknown field " + quote(key));
     }
-    read_name(v, path, node);
+    const std::optional<std::string> name = read_name(v, path);
 
     if (!complement && !unified && !spline) {
-      if (logic::uses_p(family)) {
-        node.logic.p = read_or_default(v, path, fields::logic_param(family));
-      }
+      if (logic::uses_p(family)) node.p = read_optional(v, path, p_field);
       if (logic::uses_n(family)) {
-        const Json* n = member(v, "n");
-        node.logic.n = n ? read_int(*n, field_path(path, "n"), fields::logic_degree_range(family))
-                         : fields::logic_degree_default(family);
+        if (const Json* n = member(v, "n")) {
+          node.n = read_int(*n, field_path(path, "n"), fields::logic_degree_range(family));
+        }
       }
     }
-    if (has_complement) read_complement(member(v, "complement"), path, node.complement);
+    if (has_complement) read_complement(member(v, "complement"), path, node);
     if (unified) read_unified(v, path, node);
     if (spline) read_spline(v, path, node);
 
@@ -776,14 +779,35 @@ class Reader {
     if (!children->is_array()) {
       fail(children_path, "expected an array of nodes (got " + describe(*children) + ")");
     }
+    std::vector<int> nodes;
     for (std::size_t k = 0; k < children->size(); ++k) {
-      node.children.push_back(read_node((*children)[k], indexed(children_path, k), depth + 1));
+      nodes.push_back(read_node((*children)[k], indexed(children_path, k), depth + 1));
     }
-    return node;
+    const int index = make_operator(node, std::move(nodes));
+    if (name) builder_->name(index, *name);
+    return index;
   }
 
-  void read_complement(const Json* v, const std::string& path, ComplementSpec& spec) {
-    spec = ComplementSpec{};
+  int make_operator(const OperatorFields& f, std::vector<int> children) {
+    switch (f.op) {
+      case OpKind::kUnified:
+        return f.logits ? builder_->unified_logits(f.weights, f.temperature, f.omega,
+                                                   std::move(children))
+                        : builder_->unified(f.weights, std::move(children));
+      case OpKind::kSpline:
+        return builder_->spline(f.cells, f.degree, f.box, std::move(children));
+      default:
+        break;
+    }
+    const int index = builder_->op(f.op, std::move(children));
+    if (f.op != OpKind::kComplement) builder_->logic(index, f.family, f.p, f.n);
+    if (f.op == OpKind::kComplement || f.op == OpKind::kDifference) {
+      builder_->complement(index, f.complement, f.lambda);
+    }
+    return index;
+  }
+
+  void read_complement(const Json* v, const std::string& path, OperatorFields& spec) {
     if (!v) return;
     const std::string p = field_path(path, "complement");
     const Json* type = v;
@@ -803,19 +827,16 @@ class Reader {
     }
     const auto kind = logic::complement_from_name(type->get_ref<const std::string&>());
     if (!kind) fail(type_path, "unknown complement " + quote(type->get_ref<const std::string&>()));
-    spec.kind = *kind;
+    spec.complement = *kind;
     if (logic::complement_uses_lambda(*kind)) {
-      const FieldSpec& lambda = fields::complement_lambda(*kind);
-      spec.lambda = v->is_object() ? read_or_default(*v, p, lambda)
-                                   : add_inline(field_path(p, "lambda"), *lambda.default_value,
-                                                lambda.default_fixed, lambda.range);
+      if (v->is_object()) spec.lambda = read_optional(*v, p, "lambda");
     } else if (v->is_object() && member(*v, "lambda")) {
       fail(field_path(p, "lambda"),
            "does not apply to the " + quote(logic::complement_name(*kind)) + " complement");
     }
   }
 
-  void read_unified(const Json& v, const std::string& path, Node& node) {
+  void read_unified(const Json& v, const std::string& path, OperatorFields& node) {
     const Json* c = member(v, "c");
     const Json* logits = member(v, "logits");
     if (c && logits) fail(path, "give either \"c\" or \"logits\", not both");
@@ -824,46 +845,44 @@ class Reader {
       for (const char* key : {"temperature", "omega"}) {
         if (member(v, key)) fail(field_path(path, key), "applies only with \"logits\"");
       }
-      node.unified = read_numbers(*c, field_path(path, "c"), fields::kUnifiedC, 4);
+      node.weights = read_numbers(*c, field_path(path, "c"), 4);
       return;
     }
-    node.unified_logits = true;
-    node.unified = read_numbers(*logits, field_path(path, "logits"), fields::kUnifiedLogits, 4);
-    node.temperature = read_or_default(v, path, fields::kTemperature);
-    node.omega = read_or_default(v, path, fields::kOmega);
+    node.logits = true;
+    node.weights = read_numbers(*logits, field_path(path, "logits"), 4);
+    node.temperature = read_optional(v, path, "temperature");
+    node.omega = read_optional(v, path, "omega");
   }
 
-  void read_spline(const Json& v, const std::string& path, Node& node) {
-    node.spline_degree = bspline::kDefaultDegree;
+  void read_spline(const Json& v, const std::string& path, OperatorFields& node) {
     if (const Json* degree = member(v, "degree")) {
-      node.spline_degree = read_int(*degree, field_path(path, "degree"), fields::kSplineDegree);
+      node.degree = read_int(*degree, field_path(path, "degree"), fields::kSplineDegree);
     }
     const Json* cells = member(v, "cells");
     if (!cells) fail(path, "missing field \"cells\"");
     const std::string cells_path = field_path(path, "cells");
     if (!cells->is_array()) {
-      fail(cells_path, "expected an array of " + std::to_string(tree_.dim) + " integers (got " +
+      fail(cells_path, "expected an array of " + std::to_string(dim_) + " integers (got " +
                            describe(*cells) + ")");
     }
-    const Range range = fields::spline_cells_range(node.spline_degree);
+    const Range range = fields::spline_cells_range(node.degree);
     for (std::size_t k = 0; k < cells->size(); ++k) {
       const Json& c = (*cells)[k];
       const auto n = integer_of(c);
       if (!n) fail(indexed(cells_path, k), "expected an integer (got " + describe(c) + ")");
       if (!range.contains(static_cast<double>(*n))) {
         fail(indexed(cells_path, k), range.describe() + " for degree " +
-                                         std::to_string(node.spline_degree) + " (got " +
-                                         describe(c) + ")");
+                                         std::to_string(node.degree) + " (got " + describe(c) +
+                                         ")");
       }
-      node.spline_cells.push_back(static_cast<int>(*n));
+      node.cells.push_back(static_cast<int>(*n));
     }
-    if (const Json* box = member(v, "box")) {
-      node.spline_box = read_box(*box, field_path(path, "box"));
-    }
+    if (const Json* box = member(v, "box")) node.box = read_box(*box, field_path(path, "box"));
   }
 
   std::string_view source_;
-  Tree tree_;
+  int dim_ = 3;
+  std::optional<TreeBuilder> builder_;
   std::map<std::string, ParamRef, std::less<>> shared_;
 };
 

@@ -7,46 +7,49 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/tree_json.hpp"
+#include "fuzzycsg/core/tree_builder.hpp"
 
 namespace fuzzycsg::trace {
 
 namespace {
 
-const char* op_text(Op op) {
+OpKind op_kind(Op op) {
   switch (op) {
     case Op::kDifference:
-      return "difference";
+      return OpKind::kDifference;
     case Op::kIntersection:
-      return "intersection";
+      return OpKind::kIntersection;
     case Op::kUnion:
-      return "union";
+      return OpKind::kUnion;
   }
-  return "union";
+  return OpKind::kUnion;
 }
 
-void write_node(const CsgTree& t, int id, int height, const std::string& step, std::string& out) {
+// The tracer's node `id` and its subtree, added to `out`; its index there.
+int build_node(const CsgTree& t, int id, int height, double sharpness, TreeBuilder& out) {
   const Node& n = t.node(id);
   if (!n.leaf) {
-    out += fmt::format(R"({{"op": "{}", "children": [)", op_text(n.op));
-    write_node(t, n.children[0], height, step, out);
-    out += ", ";
-    write_node(t, n.children[1], height, step, out);
-    out += "]}";
-    return;
+    const int a = build_node(t, n.children[0], height, sharpness, out);
+    const int b = build_node(t, n.children[1], height, sharpness, out);
+    return out.op(op_kind(n.op), {a, b});
   }
   const Primitive& p = n.prim;
   const double y = height - p.y;
+  int leaf = 0;
   if (p.shape == Shape::kCircle) {
-    out += fmt::format(
-        R"({{"type": "circle", "radius": {:.17g}, "translate": [{:.17g}, {:.17g}], {}}})", p.r, p.x,
-        y, step);
+    leaf = out.leaf(PrimitiveType::kCircle, std::vector<Number>{p.r});
+    out.translate(leaf, std::vector<Number>{p.x, y});
   } else {
-    out += fmt::format(
-        R"({{"type": "rectangle", "size": [{:.17g}, {:.17g}], "translate": [{:.17g}, {:.17g}], )"
-        R"("rotate": {:.17g}, {}}})",
-        p.w, p.h, p.x, y, p.theta == 0 ? 0.0 : -p.theta, step);
+    leaf = out.leaf(PrimitiveType::kRectangle, std::vector<Number>{p.w, p.h});
+    out.translate(leaf, std::vector<Number>{p.x, y});
+    out.rotate(leaf, std::vector<Number>{p.theta == 0 ? 0.0 : -p.theta});
   }
+  if (sharpness > 0) {
+    out.sigmoid(leaf, Number::with_fixed(sharpness, true));
+  } else {
+    out.crisp(leaf);
+  }
+  return leaf;
 }
 
 double value(const fuzzycsg::Tree& tree, ParamRef r) { return tree.params[r].value; }
@@ -112,27 +115,19 @@ int read_node(const fuzzycsg::Tree& tree, int id, const std::vector<std::string>
 
 }  // namespace
 
-std::string to_tree_json(const CsgTree& tree, int width, int height, double sharpness) {
+Tree to_tree(const CsgTree& tree, int width, int height, double sharpness) {
   if (tree.empty()) throw Error("trace::to_tree: empty tree");
   if (!(sharpness >= 0) || !std::isfinite(sharpness)) {
     throw InputError(fmt::format("trace::to_tree: sharpness must be >= 0 (got {})", sharpness));
   }
-  const std::string step =
-      sharpness > 0
-          ? fmt::format(R"("step": "sigmoid", "sharpness": {{"value": {:.17g}, "fixed": true}})",
-                        sharpness)
-          : std::string(R"("step": "crisp")");
-  std::string out = fmt::format(
-      R"({{"format": "fuzzycsg-tree", "version": 1, "dim": 2, "domain": {{"min": [0, 0], )"
-      R"("max": [{}, {}]}}, "root": )",
-      width, height);
-  write_node(tree, tree.root(), height, step, out);
-  out += "}\n";
-  return out;
-}
-
-Tree to_tree(const CsgTree& tree, int width, int height, double sharpness) {
-  return io::read_tree_string(to_tree_json(tree, width, height, sharpness), "trace");
+  TreeBuilder out(2);
+  Domain domain;
+  domain.max[0] = width;
+  domain.max[1] = height;
+  domain.min[0] = domain.min[1] = 0;
+  out.set_domain(domain);
+  const int root = build_node(tree, tree.root(), height, sharpness, out);
+  return std::move(out).finish(root, "trace");
 }
 
 CsgTree from_tree(const Tree& tree, int width, int height) {

@@ -1,6 +1,7 @@
 // Initialisation from the target and re-seeding of dead leaves.
 
 #include "fuzzycsg/fit/init.hpp"
+#include "fuzzycsg/core/snap.hpp"
 
 #include <gtest/gtest.h>
 

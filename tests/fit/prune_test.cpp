@@ -2,6 +2,7 @@
 // with the unified tree at one-hot weights, the simplifications of App. A on small trees whose
 // answer is known, and full binary trees whose pruned output must stay close to the original.
 #include "fuzzycsg/fit/prune.hpp"
+#include "fuzzycsg/core/snap.hpp"
 
 #include <gtest/gtest.h>
 

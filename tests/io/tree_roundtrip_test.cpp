@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/fields.hpp"
+#include "fuzzycsg/core/tree_builder.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "io/tree_compare.hpp"
 
@@ -323,6 +324,8 @@ TEST(TreeRoundTrip, RandomTrees) {
     const std::string text = write_tree_string(original);
     const Tree first = read_tree_string(text, "random");
     ASSERT_EQ(testing::tree_content_difference(original, first), "") << text;
+    // Core's canonical form is what the file reads back as, without the text.
+    ASSERT_EQ(testing::tree_difference(canonical(original), first), "") << text;
     const std::string written = write_tree_string(first);
     const Tree second = read_tree_string(written, "random (written)");
     ASSERT_EQ(testing::tree_difference(first, second), "") << written;

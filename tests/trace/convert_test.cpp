@@ -11,6 +11,7 @@
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/convert.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"
+#include "io/tree_compare.hpp"
 
 namespace fuzzycsg::trace {
 namespace {
@@ -78,8 +79,9 @@ TEST(TraceConvert, TheFileReadsBackAndTheFastEvaluatorAgrees) {
   Rng rng(42);
   const int width = 64, height = 40;
   const CsgTree t = random_tree(8, width, height, rng);
-  const std::string text = to_tree_json(t, width, height);
+  const std::string text = io::write_tree_string(to_tree(t, width, height));
   const Tree tree = io::read_tree_string(text, "trace.json");
+  EXPECT_EQ(testing::tree_difference(tree, to_tree(t, width, height)), "");
   EXPECT_EQ(io::write_tree_string(io::read_tree_string(io::write_tree_string(tree))),
             io::write_tree_string(tree));
   const Bitmap mask = TreeEvaluator(t, width, height).result();

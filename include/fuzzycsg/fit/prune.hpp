@@ -1,7 +1,7 @@
 #pragma once
-// After training (Liu et al. 2024 App. A): snap every unified operator B_c to the crisp boolean
-// its weights are closest to, then remove redundant nodes (Tilove 1984, generalised to fuzzy
-// occupancy by a mean-squared threshold), visiting nodes in post-order.
+// After training and snapping (core/snap.hpp; Liu et al. 2024 App. A): remove redundant nodes
+// (Tilove 1984, generalised to fuzzy occupancy by a mean-squared threshold), visiting nodes in
+// post-order.
 
 #include <cstddef>
 #include <span>
@@ -9,16 +9,6 @@
 #include "fuzzycsg/core/tree.hpp"
 
 namespace fuzzycsg {
-
-// The boolean a unified operator's weights c select: argmax of c. Index order as in eq. 12:
-// 0 intersection, 1 union, 2 left minus right, 3 right minus left.
-int snapped_operator(const Tree& tree, int node);
-
-// A copy of `tree` where every unified operator is replaced by product-logic union /
-// intersection / difference (children swapped for "right minus left"), which equals B_c where
-// c is one-hot. Other nodes are unchanged; the weights, temperatures and omegas are dropped from
-// the table, and parameter names follow the new node paths.
-Tree snap_operators(const Tree& tree);
 
 struct PruneOptions {
   double threshold = 1e-3;  // mean squared occupancy difference up to which a node is redundant

@@ -25,10 +25,8 @@
 
 namespace fuzzycsg::trace {
 
-// The tree file's text (format "fuzzycsg-tree", version 1). sharpness 0: crisp leaves; > 0:
-// sigmoid leaves of that fixed sharpness (per pixel).
-std::string to_tree_json(const CsgTree& tree, int width, int height, double sharpness = 0);
-// The same, read back as a validated Tree.
+// The tracer's tree as a validated, canonical Tree (write it with io/tree_json.hpp). sharpness
+// 0: crisp leaves; > 0: sigmoid leaves of that fixed sharpness (per pixel).
 Tree to_tree(const CsgTree& tree, int width, int height, double sharpness = 0);
 
 // A 2D tree of circles and rectangles (any step, placement by translate and rotate, and scale)
