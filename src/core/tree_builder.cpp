@@ -51,7 +51,8 @@ class Canonicaliser {
       Item item = std::move(stack.back());
       stack.pop_back();
       const int index = static_cast<int>(out_.nodes.size());
-      if (item.parent >= 0) out_.nodes[static_cast<std::size_t>(item.parent)].children.push_back(index);
+      if (item.parent >= 0)
+        out_.nodes[static_cast<std::size_t>(item.parent)].children.push_back(index);
       const Node& node = in_.node(item.node);
       out_.nodes.push_back(node.kind == NodeKind::kPrimitive ? leaf(node, item.path)
                                                              : op(node, item.path));
@@ -116,7 +117,8 @@ class Canonicaliser {
                                 const Range& range) {
     std::vector<ParamRef> out;
     out.reserve(refs.size());
-    for (std::size_t k = 0; k < refs.size(); ++k) out.push_back(use(refs[k], indexed(name, k), range));
+    for (std::size_t k = 0; k < refs.size(); ++k)
+      out.push_back(use(refs[k], indexed(name, k), range));
     return out;
   }
 
@@ -163,7 +165,8 @@ class Canonicaliser {
       n.placement.rotate.push_back(
           use(in.placement.rotate.front(), path + ".rotate", fields::rotate(dim).range));
     } else {
-      n.placement.rotate = use_all(in.placement.rotate, path + ".rotate", fields::rotate(dim).range);
+      n.placement.rotate =
+          use_all(in.placement.rotate, path + ".rotate", fields::rotate(dim).range);
     }
     if (in.placement.scale) {
       n.placement.scale = use(*in.placement.scale, path + ".scale", fields::kScale.range);
@@ -199,8 +202,8 @@ class Canonicaliser {
       n.complement.kind = in.complement.kind;
       if (logic::complement_uses_lambda(in.complement.kind)) {
         const FieldSpec& spec = fields::complement_lambda(in.complement.kind);
-        n.complement.lambda = use(*in.complement.lambda,
-                                  path + ".complement." + std::string(spec.name), spec.range);
+        n.complement.lambda =
+            use(*in.complement.lambda, path + ".complement." + std::string(spec.name), spec.range);
       }
     }
     if (in.op == OpKind::kUnified) {
@@ -413,8 +416,8 @@ int TreeBuilder::unified_logits(std::span<const Number> logits, std::optional<Nu
   n.op = OpKind::kUnified;
   n.unified_logits = true;
   n.unified = add_all(logits, fields::kUnifiedLogits);
-  n.temperature = add(temperature.value_or(Number(*fields::kTemperature.default_value)),
-                      fields::kTemperature);
+  n.temperature =
+      add(temperature.value_or(Number(*fields::kTemperature.default_value)), fields::kTemperature);
   n.omega = add(omega.value_or(Number(*fields::kOmega.default_value)), fields::kOmega);
   return add_operator(std::move(n), std::move(children));
 }

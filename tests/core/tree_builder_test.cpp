@@ -51,16 +51,14 @@ TEST(TreeBuilder, NamesByPathInPreOrder) {
   EXPECT_EQ(t.node(1).name, "plate");
   EXPECT_EQ(t.node(2).children, (std::vector<int>{3, 4}));
   EXPECT_EQ(t.node(3).shape.type, PrimitiveType::kSphere);
-  EXPECT_EQ(names(t), (std::vector<std::string>{
-                          "root.children[0].size[0]", "root.children[0].size[1]",
-                          "root.children[0].size[2]", "root.children[0].sharpness",
-                          "root.children[1].children[0].radius",
-                          "root.children[1].children[0].translate[0]",
-                          "root.children[1].children[0].translate[1]",
-                          "root.children[1].children[0].translate[2]",
-                          "root.children[1].children[0].sharpness",
-                          "root.children[1].children[1].radius",
-                          "root.children[1].children[1].height"}));
+  EXPECT_EQ(
+      names(t),
+      (std::vector<std::string>{
+          "root.children[0].size[0]", "root.children[0].size[1]", "root.children[0].size[2]",
+          "root.children[0].sharpness", "root.children[1].children[0].radius",
+          "root.children[1].children[0].translate[0]", "root.children[1].children[0].translate[1]",
+          "root.children[1].children[0].translate[2]", "root.children[1].children[0].sharpness",
+          "root.children[1].children[1].radius", "root.children[1].children[1].height"}));
   const Parameter& plate_sharpness = t.params.at(3);
   EXPECT_EQ(plate_sharpness.value, 40);
   EXPECT_TRUE(plate_sharpness.fixed);
@@ -112,8 +110,8 @@ TEST(TreeBuilder, OperatorDefaults) {
   const int y = b.leaf(PrimitiveType::kSphere, std::vector<Number>{1});
   const int z = b.leaf(PrimitiveType::kSphere, std::vector<Number>{1});
   const int w = b.leaf(PrimitiveType::kSphere, std::vector<Number>{1});
-  const int unified = b.unified_logits(std::vector<Number>{0.1, 0.2, 0.3, 0.4}, std::nullopt,
-                                       std::nullopt, {x, y});
+  const int unified =
+      b.unified_logits(std::vector<Number>{0.1, 0.2, 0.3, 0.4}, std::nullopt, std::nullopt, {x, y});
   const int yager = b.op(OpKind::kIntersection, {z, w});
   b.logic(yager, logic::Family::kYager);
   const int diff = b.op(OpKind::kDifference, {unified, yager});
@@ -161,7 +159,7 @@ TEST(TreeBuilder, Misuse) {
   const int a = b.leaf(PrimitiveType::kCircle, std::vector<Number>{1});
   const int c = b.leaf(PrimitiveType::kCircle, std::vector<Number>{1});
   const int u = b.op(OpKind::kUnion, {a, c});
-  EXPECT_THROW(b.op(OpKind::kUnion, {a, c}), Error);  // a second parent
+  EXPECT_THROW(b.op(OpKind::kUnion, {a, c}), Error);               // a second parent
   EXPECT_THROW(b.translate(u, std::vector<Number>{0, 0}), Error);  // not a leaf
   EXPECT_THROW(b.logic(a, logic::Family::kGodel), Error);          // not an operator
   EXPECT_THROW(b.name(17, "x"), Error);
@@ -182,8 +180,7 @@ TEST(TreeBuilder, SnapIsACanonicalRewrite) {
   const int x = b.leaf(PrimitiveType::kCircle, std::vector<Number>{1});
   const int y = b.leaf(PrimitiveType::kRectangle, std::vector<Number>{1, 2});
   // c = (0, 0, 0, 1): y \ x.
-  const int root =
-      b.unified(std::vector<Number>{0, 0, 0, 1}, {x, y});
+  const int root = b.unified(std::vector<Number>{0, 0, 0, 1}, {x, y});
   const int other = b.leaf(PrimitiveType::kCircle, std::vector<Number>{2});
   // sin(10 * 0.157) is about 1, the largest: union.
   const int top = b.unified_logits(std::vector<Number>{0, 0.157, 0, 0}, Number::shared(t),

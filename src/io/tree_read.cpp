@@ -1,6 +1,6 @@
-// Reading and writing tree files (format "fuzzycsg-tree", version 1; docs/tree-format.md).
-#include "fuzzycsg/io/tree_json.hpp"
-
+// Reading tree files (format "fuzzycsg-tree", version 1; docs/tree-format.md): the JSON is
+// checked field by field, with messages that name the path, and what it describes is handed to
+// core's TreeBuilder, which names, orders and validates the tree.
 #include <algorithm>
 #include <cstdint>
 #include <limits>
@@ -16,34 +16,22 @@
 #include "fuzzycsg/core/fields.hpp"
 #include "fuzzycsg/core/numbers.hpp"
 #include "fuzzycsg/core/tree_builder.hpp"
-#include "fuzzycsg/io/files.hpp"
+#include "fuzzycsg/io/tree_json.hpp"
 #include "io_detail.hpp"
+#include "tree_detail.hpp"
 
 namespace fuzzycsg::io {
 
 namespace {
 
 using Json = nlohmann::json;
+using detail::kMaxTreeDepth;
+using detail::parse_document;
+using detail::prefix;
 using detail::printable;
 using detail::quote;
-
-constexpr std::string_view kFormat = "fuzzycsg-tree";
-constexpr int kVersion = 1;
-// Hostile input must not exhaust the stack: JSON nesting and tree depth are bounded. A node at
-// depth d sits at JSON level 2 + 2d and its deepest numbers at level 5 + 2d, so every tree of
-// depth <= kMaxTreeDepth fits within kMaxNesting.
-constexpr std::size_t kMaxNesting = 512;
-constexpr int kMaxTreeDepth = 250;
-
-// ---------------------------------------------------------------------------------------------
-// Messages
-
-std::string prefix(std::string_view source, const std::string& path) {
-  std::string s(source);
-  if (!s.empty()) s += ": ";
-  if (!path.empty()) s += path + ": ";
-  return s;
-}
+constexpr std::string_view kFormat = detail::kTreeFormat;
+constexpr int kVersion = detail::kTreeVersion;
 
 // A JSON value as it appears after "got" in messages.
 std::string describe(const Json& v) {
@@ -73,182 +61,7 @@ std::string describe(const Json& v) {
   }
 }
 
-// A key as a path segment: plain when it looks like a name, quoted otherwise.
-std::string key_segment(const std::string& key) {
-  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-           c == '-';
-  });
-  return plain ? key : "[" + quote(key) + "]";
-}
-
 // ---------------------------------------------------------------------------------------------
-// JSON parsing: a SAX handler that builds the document, rejects duplicate keys and bounds the
-// nesting depth.
-
-class DocumentBuilder {
- public:
-  DocumentBuilder(std::string_view text, std::string_view source) : text_(text), source_(source) {}
-
-  Json document;
-
-  // Each event returns true: parsing goes on, or an InputError ends it.
-  bool null() { return value(Json(nullptr)); }
-  bool boolean(bool v) { return value(Json(v)); }
-  bool number_integer(Json::number_integer_t v) { return value(Json(v)); }
-  bool number_unsigned(Json::number_unsigned_t v) { return value(Json(v)); }
-  bool number_float(Json::number_float_t v, const Json::string_t&) { return value(Json(v)); }
-  bool string(Json::string_t& v) { return value(Json(std::move(v))); }
-  bool binary(Json::binary_t&) {
-    throw InputError(std::string(source_) + ": binary values are not JSON");
-  }
-  bool start_object(std::size_t) {
-    enter(add(Json::object()));
-    return true;
-  }
-  bool key(Json::string_t& k) {
-    Level& top = stack_.back();
-    if (top.value->contains(k)) {
-      throw InputError(prefix(source_, path()) + "duplicate key " + quote(k));
-    }
-    top.key = std::move(k);
-    return true;
-  }
-  bool end_object() {
-    stack_.pop_back();
-    return true;
-  }
-  bool start_array(std::size_t) {
-    enter(add(Json::array()));
-    return true;
-  }
-  bool end_array() {
-    stack_.pop_back();
-    return true;
-  }
-  bool parse_error(std::size_t position, const std::string& last_token,
-                   const nlohmann::detail::exception& e) {
-    if (e.id == 406) {  // a number too large for a double
-      throw InputError(prefix(source_, value_path()) + "must be finite (got " +
-                       printable(last_token) + ")");
-    }
-    throw InputError(prefix(source_, {}) + location(position) +
-                     ": syntax error: " + syntax_problem(e.what()));
-  }
-
- private:
-  struct Level {
-    Json* value;
-    std::string key;  // objects: the key of the member being read
-  };
-
-  bool value(Json&& v) {
-    add(std::move(v));
-    return true;
-  }
-
-  Json* add(Json&& v) {
-    if (stack_.empty()) {
-      document = std::move(v);
-      return &document;
-    }
-    Level& top = stack_.back();
-    if (top.value->is_array()) {
-      top.value->push_back(std::move(v));
-      return &top.value->back();
-    }
-    Json& slot = (*top.value)[top.key];
-    slot = std::move(v);
-    return &slot;
-  }
-
-  void enter(Json* v) {
-    if (stack_.size() >= kMaxNesting) {
-      throw InputError(prefix(source_, {}) + "nested deeper than " + std::to_string(kMaxNesting) +
-                       " levels");
-    }
-    stack_.push_back(Level{v, {}});
-  }
-
-  // Path of the innermost open container.
-  std::string path() const {
-    std::string s;
-    for (std::size_t i = 0; i + 1 < stack_.size(); ++i) append_segment(s, stack_[i], false);
-    return s;
-  }
-  // Path of the value being read.
-  std::string value_path() const {
-    std::string s = path();
-    if (!stack_.empty()) append_segment(s, stack_.back(), true);
-    return s;
-  }
-  // Appends the segment of a level's current member ("key" or "[index]"); `next`: the member
-  // has not been added yet.
-  static void append_segment(std::string& s, const Level& level, bool next) {
-    if (level.value->is_array()) {
-      s += "[" + std::to_string(level.value->size() - (next ? 0 : 1)) + "]";
-    } else {
-      if (!s.empty()) s += '.';
-      s += key_segment(level.key);
-    }
-  }
-
-  // "line L, column C" of the byte nlohmann stopped at (`position` bytes read).
-  std::string location(std::size_t position) const {
-    const std::size_t at = std::min(position > 0 ? position - 1 : 0, text_.size());
-    std::size_t line = 1;
-    std::size_t line_start = 0;
-    for (std::size_t i = 0; i < at; ++i) {
-      if (text_[i] == '\n') {
-        ++line;
-        line_start = i + 1;
-      }
-    }
-    return "line " + std::to_string(line) + ", column " + std::to_string(at - line_start + 1);
-  }
-
-  // The problem part of nlohmann's message, without its own prefix and position.
-  static std::string syntax_problem(std::string message) {
-    const std::string_view marker = "syntax error while parsing ";
-    std::size_t at = message.find(marker);
-    if (at != std::string::npos) {
-      message.erase(0, at + marker.size());
-      const std::size_t dash = message.find(" - ");
-      if (dash != std::string::npos) message.erase(0, dash + 3);
-    } else if ((at = message.find(": ")) != std::string::npos) {
-      message.erase(0, at + 2);
-    }
-    // The text nlohmann last read can be long (a whole string literal); keep its end.
-    const std::string_view last = "last read: '";
-    if ((at = message.find(last)) != std::string::npos) {
-      const std::size_t from = at + last.size();
-      std::size_t to = message.find("'; expected", from);
-      if (to == std::string::npos) to = message.size() - 1;
-      constexpr std::size_t kKeep = 40;
-      if (to > from + kKeep) {
-        std::size_t cut = to - kKeep;
-        while (cut < to && (static_cast<unsigned char>(message[cut]) & 0xC0) == 0x80) ++cut;
-        message.replace(from, cut - from, "...");
-      }
-    }
-    return printable(message);
-  }
-
-  std::string_view text_;
-  std::string_view source_;
-  std::vector<Level> stack_;
-};
-
-Json parse_document(std::string_view text, std::string_view source) {
-  if (std::all_of(text.begin(), text.end(),
-                  [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; })) {
-    throw InputError(prefix(source, {}) + "the input is empty (expected a tree file)");
-  }
-  DocumentBuilder builder(text, source);
-  Json::sax_parse(text.begin(), text.end(), &builder);
-  return std::move(builder.document);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Reading
 
@@ -886,260 +699,6 @@ class Reader {
   std::map<std::string, ParamRef, std::less<>> shared_;
 };
 
-// ---------------------------------------------------------------------------------------------
-// Writing
-
-// A number in the shortest form that reads back bit-identical. "-0" would read back as the
-// integer 0, so negative zero is written "-0.0".
-std::string json_number(double v) {
-  const std::string s = shortest_number(v);
-  return s == "-0" ? "-0.0" : s;
-}
-
-std::string json_string(std::string_view s) {
-  return Json(std::string(s)).dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
-// Pretty printer with the canonical layout: one member per line, 2-space indentation, values
-// given as ready-made one-line text (numbers, number arrays, small objects).
-class Printer {
- public:
-  void begin_object() { open('{'); }
-  void end_object() { close('}'); }
-  void begin_array() { open('['); }
-  void end_array() { close(']'); }
-  void key(std::string_view k) {
-    item();
-    out_ += json_string(k) + ": ";
-  }
-  void item() {
-    out_ += first_.back() ? "\n" : ",\n";
-    first_.back() = false;
-    out_.append(2 * first_.size(), ' ');
-  }
-  void raw(std::string_view text) { out_ += text; }
-  std::string finish() { return std::move(out_) + "\n"; }
-
- private:
-  void open(char c) {
-    out_ += c;
-    first_.push_back(true);
-  }
-  void close(char c) {
-    const bool empty = first_.back();
-    first_.pop_back();
-    if (!empty) {
-      out_ += '\n';
-      out_.append(2 * first_.size(), ' ');
-    }
-    out_ += c;
-  }
-
-  std::string out_;
-  std::vector<bool> first_;
-};
-
-class Writer {
- public:
-  explicit Writer(const Tree& tree) : tree_(tree) {}
-
-  std::string write() {
-    printer_.begin_object();
-    printer_.key("format");
-    printer_.raw(json_string(kFormat));
-    printer_.key("version");
-    printer_.raw(std::to_string(kVersion));
-    printer_.key("dim");
-    printer_.raw(std::to_string(tree_.dim));
-    if (tree_.domain) {
-      const auto n = static_cast<std::size_t>(tree_.dim);
-      printer_.key("domain");
-      printer_.begin_object();
-      printer_.key("min");
-      printer_.raw(plain_list(std::span(tree_.domain->min).first(n)));
-      printer_.key("max");
-      printer_.raw(plain_list(std::span(tree_.domain->max).first(n)));
-      printer_.end_object();
-    }
-    bool any_shared = false;
-    for (const Parameter& p : tree_.params.entries()) {
-      if (!p.shared) continue;
-      if (!any_shared) {
-        printer_.key("parameters");
-        printer_.begin_object();
-        any_shared = true;
-      }
-      printer_.key(p.name);
-      printer_.raw(p.fixed ? "{\"value\": " + json_number(p.value) + ", \"fixed\": true}"
-                           : json_number(p.value));
-    }
-    if (any_shared) printer_.end_object();
-    printer_.key("root");
-    write_node(tree_.root);
-    printer_.end_object();
-    return printer_.finish();
-  }
-
- private:
-  static std::string plain_list(std::span<const double> values) {
-    std::string s = "[";
-    for (std::size_t k = 0; k < values.size(); ++k) s += (k ? ", " : "") + json_number(values[k]);
-    return s + "]";
-  }
-
-  // One number entry: plain, {"value": v, "fixed": b} or {"param": name}.
-  std::string entry(ParamRef ref, bool default_fixed = false) const {
-    const Parameter& p = tree_.params[ref];
-    if (p.shared) return "{\"param\": " + json_string(p.name) + "}";
-    if (p.fixed != default_fixed) {
-      return "{\"value\": " + json_number(p.value) +
-             ", \"fixed\": " + (p.fixed ? "true" : "false") + "}";
-    }
-    return json_number(p.value);
-  }
-  std::string entries(std::span<const ParamRef> refs) const {
-    std::string s = "[";
-    for (std::size_t k = 0; k < refs.size(); ++k) s += (k ? ", " : "") + entry(refs[k]);
-    return s + "]";
-  }
-
-  void field(std::string_view key, const std::string& text) {
-    printer_.key(key);
-    printer_.raw(text);
-  }
-
-  void write_node(int index) {
-    const Node& node = tree_.node(index);
-    printer_.begin_object();
-    if (!node.name.empty()) field("name", json_string(node.name));
-    if (node.kind == NodeKind::kPrimitive) {
-      write_leaf(node);
-    } else {
-      write_operator(node);
-    }
-    printer_.end_object();
-  }
-
-  void write_leaf(const Node& node) {
-    const PrimitiveInfo& info = primitive_info(node.shape.type);
-    field("type", json_string(info.name));
-    if (node.shape.type == PrimitiveType::kMlp) {
-      std::string hidden = "[";
-      for (std::size_t k = 0; k < node.shape.hidden.size(); ++k) {
-        hidden += (k ? ", " : "") + std::to_string(node.shape.hidden[k]);
-      }
-      field("hidden", hidden + "]");
-    }
-    std::span<const ParamRef> theta = node.intrinsic;
-    for (const FieldSpec& f : info.fields) {
-      switch (f.arity) {
-        case Arity::kScalar:
-          field(f.name, entry(theta.front()));
-          theta = theta.subspan(1);
-          break;
-        case Arity::kFixed:
-          field(f.name, entries(theta.first(static_cast<std::size_t>(f.length))));
-          theta = theta.subspan(static_cast<std::size_t>(f.length));
-          break;
-        case Arity::kList:
-          field(f.name, entries(theta));
-          theta = {};
-          break;
-        case Arity::kPoints2: {  // one [x, y] point per line
-          const auto points = theta.first(fields::variable_count(info, node.intrinsic.size()));
-          printer_.key(f.name);
-          printer_.begin_array();
-          for (std::size_t k = 0; k + 1 < points.size(); k += 2) {
-            printer_.item();
-            printer_.raw(entries(points.subspan(k, 2)));
-          }
-          printer_.end_array();
-          theta = theta.subspan(points.size());
-          break;
-        }
-      }
-    }
-    const Placement& placement = node.placement;
-    if (!placement.translate.empty()) field("translate", entries(placement.translate));
-    if (!placement.rotate.empty()) {
-      field("rotate", tree_.dim == 2 ? entry(placement.rotate.front()) : entries(placement.rotate));
-    }
-    if (placement.scale) field("scale", entry(*placement.scale));
-    switch (node.step.kind) {
-      case StepKind::kSigmoid:
-        field("sharpness", entry(*node.step.param));
-        break;
-      case StepKind::kCrisp:
-        field("step", "\"crisp\"");
-        break;
-      case StepKind::kHn:
-        field("step", "{\"hn\": " + std::to_string(node.step.n) +
-                          ", \"range\": " + entry(*node.step.param) + "}");
-        break;
-    }
-  }
-
-  void write_operator(const Node& node) {
-    field("op", json_string(op_name(node.op)));
-    const logic::Family family = node.logic.family;
-    const bool binary =
-        node.op != OpKind::kComplement && node.op != OpKind::kUnified && node.op != OpKind::kSpline;
-    if (binary) {
-      if (family != logic::Family::kProduct) {
-        field("logic", json_string(logic::family_name(family)));
-      }
-      if (logic::uses_p(family)) field(logic::p_field_name(family), entry(*node.logic.p));
-      if (logic::uses_n(family)) field("n", std::to_string(node.logic.n));
-    }
-    if (node.op == OpKind::kComplement || node.op == OpKind::kDifference) {
-      const ComplementSpec& c = node.complement;
-      if (logic::complement_uses_lambda(c.kind)) {
-        field("complement", "{\"type\": " + json_string(logic::complement_name(c.kind)) +
-                                ", \"lambda\": " + entry(*c.lambda) + "}");
-      } else if (c.kind != logic::Complement::kStandard) {
-        field("complement", json_string(logic::complement_name(c.kind)));
-      }
-    }
-    if (node.op == OpKind::kUnified) {
-      if (node.unified_logits) {
-        field("logits", entries(node.unified));
-        field("temperature", entry(*node.temperature, fields::kTemperature.default_fixed));
-        field("omega", entry(*node.omega, fields::kOmega.default_fixed));
-      } else {
-        field("c", entries(node.unified));
-      }
-    }
-    if (node.op == OpKind::kSpline) {
-      std::string cells = "[";
-      for (std::size_t k = 0; k < node.spline_cells.size(); ++k) {
-        cells += (k ? ", " : "") + std::to_string(node.spline_cells[k]);
-      }
-      field("cells", cells + "]");
-      field("degree", std::to_string(node.spline_degree));
-      if (node.spline_box) {
-        const auto n = static_cast<std::size_t>(tree_.dim);
-        printer_.key("box");
-        printer_.begin_object();
-        printer_.key("min");
-        printer_.raw(plain_list(std::span(node.spline_box->min).first(n)));
-        printer_.key("max");
-        printer_.raw(plain_list(std::span(node.spline_box->max).first(n)));
-        printer_.end_object();
-      }
-    }
-    printer_.key("children");
-    printer_.begin_array();
-    for (int child : node.children) {
-      printer_.item();
-      write_node(child);
-    }
-    printer_.end_array();
-  }
-
-  const Tree& tree_;
-  Printer printer_;
-};
-
 }  // namespace
 
 Tree read_tree_string(std::string_view text, std::string_view source) {
@@ -1150,20 +709,6 @@ Tree read_tree_string(std::string_view text, std::string_view source) {
 Tree read_tree_file(const std::filesystem::path& path) {
   const std::string text = detail::read_text_file(path);
   return read_tree_string(text, detail::display_name(path));
-}
-
-std::string write_tree_string(const Tree& tree) {
-  validate(tree, "write_tree");
-  const int depth = count(tree).depth;
-  if (depth > kMaxTreeDepth) {
-    throw InputError("write_tree: the tree is " + std::to_string(depth) +
-                     " levels deep; tree files hold at most " + std::to_string(kMaxTreeDepth));
-  }
-  return Writer(tree).write();
-}
-
-void write_tree_file(const Tree& tree, const std::filesystem::path& path) {
-  write_text_file_atomic(path, write_tree_string(tree));
 }
 
 }  // namespace fuzzycsg::io
