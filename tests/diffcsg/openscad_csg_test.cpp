@@ -55,18 +55,6 @@ Scene read_off(const std::filesystem::path& path) {
   return s;
 }
 
-TEST(DiffcsgOpenscad, FragmentsAsOpenscadCountsThem) {
-  EXPECT_EQ(openscad_fragments(10, 0, 2, 12), 30);
-  EXPECT_EQ(openscad_fragments(25, 100, 2, 12), 100);
-  EXPECT_EQ(openscad_fragments(0.5, 0, 2, 12), 5);
-  EXPECT_EQ(openscad_fragments(3, 0, 2, 12), 10);  // 2 pi 3 / 2 = 9.42
-  EXPECT_EQ(openscad_fragments(1e-9, 0, 2, 12), 3);
-  EXPECT_EQ(openscad_fragments(5, 2, 2, 12), 3);
-  // Saturated, never an overflowing conversion.
-  EXPECT_EQ(openscad_fragments(1, 1e300, 2, 12), std::numeric_limits<int>::max());
-  EXPECT_EQ(openscad_fragments(1e300, 0, 1e-300, 1e-300), std::numeric_limits<int>::max());
-}
-
 TEST(DiffcsgOpenscad, TheExamplesMatchOpenscadsOwnMeshes) {
   struct Case {
     const char* name;
@@ -192,9 +180,9 @@ TEST(DiffcsgOpenscad, DeepNestingIsRefusedNotAStackOverflow) {
   braces.append(kDeep, '}');
   for (const std::string* text : {&vectors, &chain, &braces}) {
     const std::string line = text == &braces ? "513" : "1";
-    EXPECT_EQ(scene_error(*text, kMaxOpenscadTriangles),
+    EXPECT_EQ(scene_error(*text, scad::kMaxOpenscadTriangles),
               "m.csg: line " + line + ": nested deeper than 512 levels");
-    EXPECT_EQ(tree_error(*text, kMaxOpenscadTriangles),
+    EXPECT_EQ(tree_error(*text, scad::kMaxOpenscadTriangles),
               "m.csg: line " + line + ": nested deeper than 512 levels");
   }
   // 511 groups around a cube: 512 statements.
@@ -212,8 +200,8 @@ TEST(DiffcsgOpenscad, ModelsOfTooManyTrianglesAreRefusedBeforeTessellation) {
   // Two spheres at the limit of fragments fit, with 8 triangles to spare (the tree reader
   // tessellates nothing, so this costs nothing).
   const std::string two = "sphere($fn = 4096, r = 1);\nsphere($fn = 4096, r = 2);\n";
-  EXPECT_EQ(tree_error(two, kMaxOpenscadTriangles), "accepted");
-  EXPECT_EQ(tree_error(two + "cube(1);\n", kMaxOpenscadTriangles),
+  EXPECT_EQ(tree_error(two, scad::kMaxOpenscadTriangles), "accepted");
+  EXPECT_EQ(tree_error(two + "cube(1);\n", scad::kMaxOpenscadTriangles),
             "m.csg: line 3: cube: 33554436 triangles in the model with it, at most 33554432");
   // The count is the scene's: a cube (12), a sphere of 8 fragments (60) and a cone of 6 (10).
   const std::string small =
