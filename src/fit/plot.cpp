@@ -10,6 +10,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/canvas.hpp"
+#include "fuzzycsg/io/png.hpp"
 
 namespace fuzzycsg {
 

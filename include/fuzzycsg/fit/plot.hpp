@@ -9,7 +9,6 @@
 
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/fit/fit.hpp"
-#include "fuzzycsg/io/png.hpp"  // encode_png
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg {
