@@ -1,4 +1,4 @@
-#include "fuzzycsg/mesh/bounds.hpp"
+#include "bounds.hpp"
 
 #include <algorithm>
 #include <array>

@@ -12,9 +12,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "bounds.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
-#include "fuzzycsg/mesh/bounds.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 #include "reduce.hpp"
 

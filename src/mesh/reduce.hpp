@@ -18,8 +18,8 @@
 #include <span>
 #include <vector>
 
+#include "bounds.hpp"
 #include "fuzzycsg/core/tree.hpp"
-#include "fuzzycsg/mesh/bounds.hpp"
 
 namespace fuzzycsg::mesh_detail {
 

@@ -405,16 +405,16 @@ class StatementReader {
   const std::string& source_;
 };
 
-
 std::size_t triangle_count(const CsgPrimitive& p) {
   const auto f = static_cast<std::size_t>(p.fragments);
   switch (p.kind) {
     case CsgPrimitive::Kind::kCube:
       return 12;
     case CsgPrimitive::Kind::kSphere:  // two capping polygons, two triangles per fragment between
-                                    // rings
+                                       // rings
       return 2 * (f - 2) + 2 * f * ((f + 1) / 2 - 1);
-    case CsgPrimitive::Kind::kCylinder: {  // per circle (not an apex): f sides and f - 2 for its cap
+    case CsgPrimitive::Kind::kCylinder: {  // per circle (not an apex): f sides and f - 2 for its
+                                           // cap
       const std::size_t circles = (p.r1 > 0 ? 1 : 0) + (p.r2 > 0 ? 1 : 0);
       return circles * (2 * f - 2);
     }
@@ -441,7 +441,6 @@ class TriangleBudget {
   std::size_t max_;
   std::size_t total_ = 0;
 };
-
 
 // Statements resolved into items, depth first in file order: a multmatrix's matrix is read
 // before its children, a primitive's arguments are checked and its triangles counted as it is

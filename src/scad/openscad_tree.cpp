@@ -95,8 +95,8 @@ class ModelBuilder {
         const double cosine = r[c] * r[d] + r[3 + c] * r[3 + d] + r[6 + c] * r[6 + d];
         if (std::abs(cosine) > 1e-6) {
           fail_at(model_, st,
-                     "its placement shears it, which a tree's translate, rotate and size "
-                     "cannot express");
+                  "its placement shears it, which a tree's translate, rotate and size "
+                  "cannot express");
         }
       }
     }
@@ -129,8 +129,8 @@ class ModelBuilder {
         if (!p.center) offset = {0, 0, p.h / 2};
         if (!same(scale[0], scale[1])) {
           fail_at(model_, st,
-                     "a scale that differs across its axis makes an elliptic cylinder, which "
-                     "no tree family is");
+                  "a scale that differs across its axis makes an elliptic cylinder, which "
+                  "no tree family is");
         }
         if (p.r1 == p.r2) {
           type = PrimitiveType::kCylinder;

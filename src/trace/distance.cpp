@@ -1,4 +1,4 @@
-#include "fuzzycsg/trace/distance.hpp"
+#include "distance.hpp"
 
 #include <algorithm>
 #include <cmath>

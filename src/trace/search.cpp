@@ -14,8 +14,8 @@
 #include <thread>
 #include <utility>
 
+#include "distance.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/trace/distance.hpp"
 
 namespace fuzzycsg::trace {
 

@@ -12,7 +12,7 @@
 
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
-#include "fuzzycsg/mesh/bounds.hpp"
+#include "mesh/bounds.hpp"
 
 namespace fuzzycsg::test {
 

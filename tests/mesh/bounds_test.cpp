@@ -1,4 +1,4 @@
-#include "fuzzycsg/mesh/bounds.hpp"
+#include "mesh/bounds.hpp"
 #include "bounds_support.hpp"
 
 #include <gtest/gtest.h>

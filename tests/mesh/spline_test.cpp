@@ -11,8 +11,8 @@
 #include "bounds_support.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
-#include "fuzzycsg/mesh/bounds.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
+#include "mesh/bounds.hpp"
 
 namespace fuzzycsg {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "fuzzycsg/trace/distance.hpp"
 #include "fuzzycsg/trace/evaluate.hpp"
+#include "trace/distance.hpp"
 
 namespace fuzzycsg::trace {
 namespace {

@@ -1,4 +1,7 @@
 #pragma once
+// The diagram module: the tree drawn as a graph by Graphviz. This header is all of its
+// interface.
+//
 // The tree itself as a diagram: Graphviz DOT text written here, laid out and drawn (SVG, PNG)
 // by Graphviz's library (libgvc, the dot layout).
 //

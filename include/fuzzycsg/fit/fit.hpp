@@ -1,4 +1,14 @@
 #pragma once
+// The fit module: inverse CSG by gradient descent (Liu et al. 2024). This header is its main
+// one (fit, FitOptions, FitResult); the others:
+//   init.hpp          starting points that look at the target, and re-seeding.
+//   types.hpp         the search over the types of unified operators.
+//   prune.hpp         prune: redundant nodes removed after snapping.
+//   metrics.hpp       measure: MSE, IoU and Chamfer distance against a target.
+//   report.hpp        report.json and the checkpoint a fit resumes from.
+//   option_names.hpp  the names of the settings chosen from a list.
+//   plot.hpp          the loss curve and occupancy pictures.
+//
 // Inverse CSG by gradient descent (Liu et al. 2024, §5.2 and App. A): a full binary tree of
 // P primitives with unified boolean operators B_c is fitted to a target's crisp occupancy by
 // Adam on the mean squared error, then snapped to crisp booleans and pruned.

@@ -1,4 +1,8 @@
 #pragma once
+// The mesh module: a tree's 0.5 level set as a triangle mesh (3D) or contours (2D), extracted
+// where interval bounds say the surface can be, and written as OBJ, STL, PLY or SVG. This header
+// is all of its interface.
+//
 // The 0.5 level set of a tree's occupancy: a closed, consistently oriented triangle mesh in 3D,
 // closed polylines in 2D.
 //

@@ -1,4 +1,7 @@
 #pragma once
+// The render module: pictures of trees, 3D by ray casting their mesh, 2D as plots and SVG
+// outlines. This header is all of its interface.
+//
 // Pictures of trees. 3D: the 0.5 level set (mesh.hpp) ray cast with Embree and shaded (two
 // directional lights and an ambient term on smooth vertex normals, 2x2 samples a pixel), from a
 // given camera or from default cameras that frame the shape. 2D: the occupancy with a colour

@@ -1,4 +1,8 @@
 #pragma once
+// The scad module: OpenSCAD both ways. This header is its main one: export of a tree as an
+// OpenSCAD program, and classification of quadric leaves. The other:
+//   openscad_csg.hpp  import of the .csg files OpenSCAD writes, as a model and as a tree.
+//
 // OpenSCAD export of a tree, and classification of quadric leaves.
 //
 // The export is the tree's *crisp* counterpart: every leaf is its set f < 0 (whatever its step

@@ -1,4 +1,10 @@
 #pragma once
+// The target module: shapes to fit, as crisp occupancy with training samplers. This header is
+// its main one (Target, load_target, the samplers); the others:
+//   mesh_file.hpp             read_mesh_file: triangle meshes through assimp, checked.
+//   picture.hpp               read_picture: pictures as binary masks (stb_image, Netpbm).
+//   signed_distance_grid.hpp  exact signed distance fields of masks.
+//
 // Shapes to fit: a crisp occupancy function on the normalised domain [-1, 1]^dim, and a way to
 // draw points on its boundary. Inverse CSG (fuzzycsg/fit) samples its training points from here.
 //
