@@ -7,7 +7,6 @@
 #include <cmath>
 #include <future>
 #include <memory>
-#include <numbers>
 #include <sstream>
 
 #include "fuzzycsg/core/error.hpp"
@@ -15,6 +14,8 @@
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/fit/init.hpp"
 #include "fuzzycsg/fit/types.hpp"
+#include "fuzzycsg/optim/adam.hpp"
+#include "fuzzycsg/optim/schedule.hpp"
 
 namespace fuzzycsg {
 
@@ -81,30 +82,28 @@ std::vector<int> operator_types(const Tree& tree, std::span<const double> params
   return out;
 }
 
-// For SharpnessParam::kLog: 1 at the sharpness of every free sigmoid step of a leaf, which
-// Adam steps as log s; 0 elsewhere. Indexed like the parameter table.
-std::vector<char> log_stepped(const Tree& tree, SharpnessParam sharpness) {
-  std::vector<char> out(tree.params.size(), 0);
-  if (sharpness != SharpnessParam::kLog) return out;
-  for (const Node& n : tree.nodes) {
-    if (n.kind == NodeKind::kPrimitive && n.step.kind == StepKind::kSigmoid && n.step.param &&
-        !tree.params[*n.step.param].fixed) {
-      out[n.step.param->index] = 1;
+// Adam over the model's parameters: the fixed ones stay, each is projected into its field's
+// range after a step (projected gradient), and with SharpnessParam::kLog the sharpness of every
+// free sigmoid step of a leaf is stepped as log s.
+optim::Adam model_adam(const Tree& tree, const FitOptions& o) {
+  optim::AdamOptions ao;
+  ao.beta1 = o.beta1;
+  ao.beta2 = o.beta2;
+  ao.eps = o.adam_eps;
+  optim::Adam adam(tree.params.size(), ao);
+  for (std::size_t i = 0; i < tree.params.size(); ++i) {
+    adam.set_free(i, !tree.params.at(i).fixed);
+    adam.set_range(i, tree.params.at(i).range);
+  }
+  if (o.sharpness_param == SharpnessParam::kLog) {
+    for (const Node& n : tree.nodes) {
+      if (n.kind == NodeKind::kPrimitive && n.step.kind == StepKind::kSigmoid && n.step.param &&
+          !tree.params[*n.step.param].fixed) {
+        adam.set_log(n.step.param->index, true);
+      }
     }
   }
-  return out;
-}
-
-// Keeps a parameter inside its field's range after an Adam step (projected gradient). Open
-// bounds are kept a small relative distance inside.
-double project(double v, const Range& r) {
-  if (v < r.lo || (r.lo_open && v <= r.lo)) {
-    v = r.lo_open ? r.lo + std::max(1e-6, std::abs(r.lo) * 1e-6) : r.lo;
-  }
-  if (v > r.hi || (r.hi_open && v >= r.hi)) {
-    v = r.hi_open ? r.hi - std::max(1e-6, std::abs(r.hi) * 1e-6) : r.hi;
-  }
-  return v;
+  return adam;
 }
 
 Tree with_values(Tree tree, std::span<const double> values) {
@@ -246,16 +245,13 @@ Tree make_initial_model(const FitOptions& o, int dim) {
 }
 
 double temperature_at(const FitOptions& o, long step) {
-  const double ramp_steps = o.temperature_ramp * static_cast<double>(o.iters);
-  if (ramp_steps <= 0 || static_cast<double>(step) >= ramp_steps) return o.temperature;
-  const double f = static_cast<double>(step) / ramp_steps;
-  return o.temperature_start * std::pow(o.temperature / o.temperature_start, f);
+  return optim::geometric_ramp(o.temperature_start, o.temperature,
+                               o.temperature_ramp * static_cast<double>(o.iters), step);
 }
 
 double lr_at(const FitOptions& o, long step) {
   if (o.lr_schedule == LrSchedule::kConstant || o.iters <= 0) return o.lr;
-  const double f = std::clamp(static_cast<double>(step) / static_cast<double>(o.iters), 0.0, 1.0);
-  return o.lr * (o.lr_end + (1.0 - o.lr_end) * 0.5 * (1.0 + std::cos(std::numbers::pi * f)));
+  return optim::cosine_lr(o.lr, o.lr_end, static_cast<double>(step) / static_cast<double>(o.iters));
 }
 
 FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
@@ -295,14 +291,8 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     st.v.assign(n, 0.0);
   }
 
-  std::vector<char> free(n);
-  std::vector<Range> ranges(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    free[i] = !model.params.at(i).fixed;
-    ranges[i] = model.params.at(i).range;
-  }
+  const optim::Adam adam = model_adam(model, o);
   const std::vector<std::size_t> temps = temperature_indices(model);
-  const std::vector<char> in_log = log_stepped(model, o.sharpness_param);
   const std::size_t pool_size = o.pool ? o.pool : static_cast<std::size_t>(o.batch);
   const std::size_t batch = static_cast<std::size_t>(o.batch);
   const long curve_every = std::max(1L, o.iters / 1000);
@@ -447,26 +437,9 @@ FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
     prev.switched = st.switched;
     prev.valid = true;
 
-    // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam, into `prev`.
-    const double k = static_cast<double>(st.step + 1);
-    const double c1 = 1.0 - std::pow(o.beta1, k);
-    const double c2 = 1.0 - std::pow(o.beta2, k);
-    const double lr = lr_at(o, st.step);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!free[i]) {
-        prev.params[i] = st.params[i];
-        prev.m[i] = st.m[i];
-        prev.v[i] = st.v[i];
-        continue;
-      }
-      // For a parameter stepped as its logarithm u = log s: dL/du = s dL/ds, s' = s exp(-du).
-      const double g = in_log[i] ? grad[i] * st.params[i] : grad[i];
-      prev.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * g;
-      prev.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * g * g;
-      const double update = lr * (prev.m[i] / c1) / (std::sqrt(prev.v[i] / c2) + o.adam_eps);
-      const double next = in_log[i] ? st.params[i] * std::exp(-update) : st.params[i] - update;
-      prev.params[i] = project(next, ranges[i]);
-    }
+    // Adam into `prev`.
+    adam.step(st.step + 1, lr_at(o, st.step), grad, optim::ConstAdamState{st.params, st.m, st.v},
+              optim::AdamState{prev.params, prev.m, prev.v});
     std::swap(st.params, prev.params);
     std::swap(st.m, prev.m);
     std::swap(st.v, prev.v);
