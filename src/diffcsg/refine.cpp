@@ -11,6 +11,7 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/placement.hpp"
+#include "fuzzycsg/optim/adam.hpp"
 #include "fuzzycsg/optim/cmaes.hpp"
 
 namespace fuzzycsg::diffcsg {
@@ -233,12 +234,6 @@ Tree crisp_model(const Tree& input) {
   return input;
 }
 
-// A parameter's value kept in its field's range (a radius above 0).
-double in_range(const Parameter& p, double x) {
-  if (x < p.range.lo || (p.range.lo_open && x <= p.range.lo)) x = p.range.lo + 1e-6;
-  return std::min(x, p.range.hi);
-}
-
 }  // namespace
 
 std::vector<double> parameter_scales(const Tree& tree, const TessellationOptions& tessellation) {
@@ -279,7 +274,7 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
   std::vector<double> params = initial;
   const auto set = [&](std::span<const double> x) {
     for (std::size_t i = 0; i < free.size(); ++i) {
-      params[free[i]] = in_range(tree.params.at(free[i]), x[i]);
+      params[free[i]] = optim::project(x[i], tree.params.at(free[i]).range);
     }
     tree.params.set_values(params);
   };
@@ -326,7 +321,7 @@ RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const R
       });
   params = initial;
   for (std::size_t i = 0; i < free.size(); ++i) {
-    params[free[i]] = in_range(tree.params.at(free[i]), r.best[i]);
+    params[free[i]] = optim::project(r.best[i], tree.params.at(free[i]).range);
   }
   tree.params.set_values(params);
   result.steps = static_cast<int>(r.evaluations);
@@ -386,10 +381,21 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
 
   std::vector<double> params = tree.params.values(), m(params.size(), 0.0), v2(params.size(), 0.0);
   std::vector<double> previous = params;  // before the last step
-  std::vector<double> lr(params.size(), o.lr);
-  if (o.lr_relative > 0) {
-    lr = parameter_scales(tree, tessellation);
-    for (double& x : lr) x *= o.lr_relative;
+  optim::AdamOptions adam_options;
+  adam_options.beta1 = o.beta1;
+  adam_options.beta2 = o.beta2;
+  adam_options.eps = o.eps;
+  optim::Adam adam(params.size(), adam_options);
+  // A relative learning rate is lr_relative times each parameter's natural scale: the scale is
+  // the parameter's rate.
+  const double lr = o.lr_relative > 0 ? o.lr_relative : o.lr;
+  const std::vector<double> scales =
+      o.lr_relative > 0 ? parameter_scales(tree, tessellation) : std::vector<double>{};
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const Parameter& p = tree.params.at(k);
+    adam.set_free(k, !p.fixed);
+    adam.set_range(k, p.range);
+    if (!scales.empty()) adam.set_rate(k, scales[k]);
   }
   const auto check_mse = [&](const PreparedScene& ps, const ViewPass* pass0) {
     const double mse =
@@ -458,15 +464,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     result.seconds_backward += since(t0);
     ++result.steps;
     previous = params;
-    const double c1 = 1 - std::pow(o.beta1, result.steps), c2 = 1 - std::pow(o.beta2, result.steps);
-    for (std::size_t k = 0; k < params.size(); ++k) {
-      const Parameter& p = tree.params.at(k);
-      if (p.fixed) continue;
-      m[k] = o.beta1 * m[k] + (1 - o.beta1) * grad[k];
-      v2[k] = o.beta2 * v2[k] + (1 - o.beta2) * grad[k] * grad[k];
-      params[k] -= lr[k] * (m[k] / c1) / (std::sqrt(v2[k] / c2) + o.eps);
-      params[k] = in_range(p, params[k]);
-    }
+    adam.step(result.steps, lr, grad, optim::AdamState{params, m, v2});
   }
   tree.params.set_values(params);
   result.unseen_primitives = unseen_primitives(tree, target, tessellation, o.threads);

@@ -3,114 +3,19 @@
 
 #include <fmt/core.h>
 
-#include <algorithm>
 #include <bit>
 #include <cmath>
-#include <future>
-#include <memory>
-#include <numbers>
-#include <sstream>
 
+#include "fit/trainer.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/core/logic.hpp"
-#include "fuzzycsg/eval/evaluator.hpp"
-#include "fuzzycsg/fit/init.hpp"
-#include "fuzzycsg/fit/types.hpp"
+#include "fuzzycsg/optim/schedule.hpp"
 
 namespace fuzzycsg {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
 [[noreturn]] void bad_option(const char* field, std::string what) {
   throw OptionError(field, std::move(what));
-}
-
-// The sampler draws from its own stream so that changing the model's seed use does not shift
-// the training points (and vice versa).
-constexpr std::uint64_t kSamplerStream = 0x9e3779b97f4a7c15ULL;
-// Re-seeding rounds draw from a stream of the seed and the step, so a resumed run repeats them.
-constexpr std::uint64_t kReseedStream = 0xd1b54a32d192ed03ULL;
-constexpr std::uint64_t kTypeSearchStream = 0x8cb92ba72f3d8dd7ULL;
-
-std::string save_rng(const Rng& rng) {
-  std::ostringstream s;
-  s << rng;
-  return s.str();
-}
-
-Rng load_rng(const std::string& text) {
-  Rng rng;
-  std::istringstream s(text);
-  s >> rng;
-  if (!s) throw InputError("checkpoint: state.rng: not a generator state");
-  return rng;
-}
-
-// Parameter indices of the unified operators' temperatures, which the schedule drives.
-std::vector<std::size_t> temperature_indices(const Tree& tree) {
-  std::vector<std::size_t> out;
-  for (const Node& n : tree.nodes) {
-    if (n.kind == NodeKind::kOperator && n.op == OpKind::kUnified && n.temperature) {
-      out.push_back(n.temperature->index);
-    }
-  }
-  return out;
-}
-
-// The boolean each unified operator currently selects: argmax of c, which for t > 0 is the
-// argmax of sin(omega * logits). Indexed like tree.nodes; -1 for nodes that are not unified
-// operators.
-std::vector<int> operator_types(const Tree& tree, std::span<const double> params) {
-  std::vector<int> out(tree.nodes.size(), -1);
-  for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
-    const Node& n = tree.nodes[k];
-    if (n.kind != NodeKind::kOperator || n.op != OpKind::kUnified) continue;
-    std::array<double, 4> w{};
-    for (int i = 0; i < 4; ++i) w[i] = params[n.unified[i].index];
-    if (n.unified_logits) {
-      const double omega = n.omega ? params[n.omega->index] : 10.0;
-      for (double& x : w) x = std::sin(omega * x);
-    }
-    out[k] = static_cast<int>(std::max_element(w.begin(), w.end()) - w.begin());
-  }
-  return out;
-}
-
-// For SharpnessParam::kLog: 1 at the sharpness of every free sigmoid step of a leaf, which
-// Adam steps as log s; 0 elsewhere. Indexed like the parameter table.
-std::vector<char> log_stepped(const Tree& tree, SharpnessParam sharpness) {
-  std::vector<char> out(tree.params.size(), 0);
-  if (sharpness != SharpnessParam::kLog) return out;
-  for (const Node& n : tree.nodes) {
-    if (n.kind == NodeKind::kPrimitive && n.step.kind == StepKind::kSigmoid && n.step.param &&
-        !tree.params[*n.step.param].fixed) {
-      out[n.step.param->index] = 1;
-    }
-  }
-  return out;
-}
-
-// Keeps a parameter inside its field's range after an Adam step (projected gradient). Open
-// bounds are kept a small relative distance inside.
-double project(double v, const Range& r) {
-  if (v < r.lo || (r.lo_open && v <= r.lo)) {
-    v = r.lo_open ? r.lo + std::max(1e-6, std::abs(r.lo) * 1e-6) : r.lo;
-  }
-  if (v > r.hi || (r.hi_open && v >= r.hi)) {
-    v = r.hi_open ? r.hi - std::max(1e-6, std::abs(r.hi) * 1e-6) : r.hi;
-  }
-  return v;
-}
-
-Tree with_values(Tree tree, std::span<const double> values) {
-  tree.params.set_values(values);
-  return tree;
 }
 
 }  // namespace
@@ -247,326 +152,33 @@ Tree make_initial_model(const FitOptions& o, int dim) {
 }
 
 double temperature_at(const FitOptions& o, long step) {
-  const double ramp_steps = o.temperature_ramp * static_cast<double>(o.iters);
-  if (ramp_steps <= 0 || static_cast<double>(step) >= ramp_steps) return o.temperature;
-  const double f = static_cast<double>(step) / ramp_steps;
-  return o.temperature_start * std::pow(o.temperature / o.temperature_start, f);
+  return optim::geometric_ramp(o.temperature_start, o.temperature,
+                               o.temperature_ramp * static_cast<double>(o.iters), step);
 }
 
 double lr_at(const FitOptions& o, long step) {
   if (o.lr_schedule == LrSchedule::kConstant || o.iters <= 0) return o.lr;
-  const double f = std::clamp(static_cast<double>(step) / static_cast<double>(o.iters), 0.0, 1.0);
-  return o.lr * (o.lr_end + (1.0 - o.lr_end) * 0.5 * (1.0 + std::cos(std::numbers::pi * f)));
+  return optim::cosine_lr(o.lr, o.lr_end, static_cast<double>(step) / static_cast<double>(o.iters));
 }
 
 FitResult fit(const Target& target, const FitOptions& o, const FitHooks& hooks,
               const TrainState* resume) {
-  const int dim = target.dim();
-  validate(o, dim);
-  Tree model = make_initial_model(o, dim);
-  FitResult result;
-  if (o.init == InitMode::kBalls) {
-    TargetInitOptions io;
-    io.temperature = temperature_at(o, 0);
-    io.seed = o.seed;
-    if (o.init_slope > 0) io.slope = o.init_slope;
-    result.initialised_leaves = initialise_from_target(model, target, io);
-  } else if (o.init == InitMode::kSurface) {
-    SurfaceInitOptions so;
-    so.seed = o.seed;
-    so.curvature = o.init_range;
-    if (o.init_slope > 0) so.slope = o.init_slope;
-    result.initialised_leaves = initialise_on_surface(model, target, so);
+  validate(o, target.dim());
+  fit_detail::Trainer trainer(target, o, hooks, resume);
+  while (trainer.steps_left() && !trainer.out_of_time()) {
+    trainer.sample_batch();
+    trainer.set_temperature();
+    const double loss = trainer.loss_and_gradient();
+    if (trainer.rollback_if_non_finite(loss)) break;
+    trainer.keep_rollback_point();
+    trainer.step();
+    trainer.reseed();
+    trainer.search_types();
+    trainer.record_curves(loss);
+    trainer.checkpoint();
+    trainer.report_progress();
   }
-  const Evaluator ev(model, EvalOptions{o.threads});
-  const std::size_t n = model.params.size();
-  const std::vector<double> initial = model.params.values();
-
-  TrainState st;
-  if (resume) {
-    st = *resume;
-    if (st.params.size() != n || st.m.size() != n || st.v.size() != n) {
-      throw InputError(
-          fmt::format("checkpoint: state.params: {} values, but the model has {} parameters",
-                      st.params.size(), n));
-    }
-  } else {
-    st.params = initial;
-    st.m.assign(n, 0.0);
-    st.v.assign(n, 0.0);
-  }
-
-  std::vector<char> free(n);
-  std::vector<Range> ranges(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    free[i] = !model.params.at(i).fixed;
-    ranges[i] = model.params.at(i).range;
-  }
-  const std::vector<std::size_t> temps = temperature_indices(model);
-  const std::vector<char> in_log = log_stepped(model, o.sharpness_param);
-  const std::size_t pool_size = o.pool ? o.pool : static_cast<std::size_t>(o.batch);
-  const std::size_t batch = static_cast<std::size_t>(o.batch);
-  const long curve_every = std::max(1L, o.iters / 1000);
-
-  Rng rng(o.seed ^ kSamplerStream);
-  SampleSet pool;
-  std::future<SampleSet> next_pool;  // drawn ahead (see the training loop); holds `rng` meanwhile
-  std::string next_rng;              // the generator's state before it
-  if (resume && st.pool_step >= 0) {
-    // Redraw the pool the interrupted run was using: same generator state, same points.
-    rng = load_rng(st.rng_at_resample);
-    pool = draw_samples(target, pool_size, o.sampling, rng);
-  }
-
-  // A non-finite loss rolls back to the state at the start of the last step whose loss was
-  // finite. Adam writes the new parameters and moments into `prev` and swaps them in, so that
-  // `prev` holds that state without copies.
-  struct {
-    std::vector<double> params, m, v;
-    long pool_step = -1;
-    std::string rng_at_resample;
-    std::size_t curve_size = 0;
-    double loss_sum = 0;
-    long loss_count = 0;
-    long reseeded = 0;
-    long switched = 0;
-    bool valid = false;  // a step of this run had a finite loss
-  } prev;
-  prev.params.resize(n);
-  prev.m.resize(n);
-  prev.v.resize(n);
-
-  std::vector<double> grad(n);
-  std::vector<float> points(batch * static_cast<std::size_t>(dim));
-  std::vector<float> labels(batch);
-  std::unique_ptr<BoundaryDistance> distance;
-  const long reseed_last = static_cast<long>(o.reseed_until * static_cast<double>(o.iters));
-  if (o.reseed_every > 0 && o.reseed_every < reseed_last) {
-    Rng drng(o.seed ^ kReseedStream);
-    distance = std::make_unique<BoundaryDistance>(target, 50000, drng);
-  }
-  const long type_search_first =
-      static_cast<long>(o.type_search_from * static_cast<double>(o.iters));
-  const long type_search_last =
-      static_cast<long>(o.type_search_until * static_cast<double>(o.iters));
-  const Clock::time_point start = Clock::now();
-  const double seconds_before = st.seconds;
-  Clock::time_point last_report = start;
-  long steps_at_report = st.step;
-  double report_loss_sum = 0;
-  long report_loss_count = 0;
-
-  auto report = [&](bool final) {
-    if (!hooks.progress) return;
-    const double dt = seconds_since(last_report);
-    Progress p;
-    p.step = st.step;
-    p.iters = o.iters;
-    p.loss = report_loss_count ? report_loss_sum / static_cast<double>(report_loss_count)
-                               : (st.curve.empty() ? 0.0 : st.curve.back().loss);
-    p.steps_per_second = dt > 0 ? static_cast<double>(st.step - steps_at_report) / dt : 0.0;
-    p.seconds = st.seconds;
-    p.temperature = temperature_at(o, st.step);
-    p.final = final;
-    hooks.progress(p);
-    last_report = Clock::now();
-    steps_at_report = st.step;
-    report_loss_sum = 0;
-    report_loss_count = 0;
-  };
-
-  result.stop = StopReason::kIterations;
-  while (st.step < o.iters) {
-    st.seconds = seconds_before + seconds_since(start);
-    if (o.time_limit > 0 && st.seconds >= o.time_limit) {
-      result.stop = StopReason::kTimeLimit;
-      break;
-    }
-    if (st.pool_step < 0 || st.step - st.pool_step >= o.resample_every) {
-      st.pool_step = st.step;
-      if (next_pool.valid()) {
-        st.rng_at_resample = std::move(next_rng);
-        pool = next_pool.get();
-      } else {
-        st.rng_at_resample = save_rng(rng);
-        pool = draw_samples(target, pool_size, o.sampling, rng);
-      }
-      // The next pool is drawn on another thread while these steps run (the generator is used
-      // by nothing else), so that sampling leaves the critical path; the same points in the
-      // same order as drawing it when it is needed.
-      if (st.step + o.resample_every < o.iters) {
-        next_rng = save_rng(rng);
-        next_pool = std::async(std::launch::async, [&target, &o, &rng, pool_size] {
-          return draw_samples(target, pool_size, o.sampling, rng);
-        });
-      }
-    }
-    // The batch: the next `batch` points of the pool, cycling.
-    const std::size_t offset =
-        (static_cast<std::size_t>(st.step - st.pool_step) * batch) % pool_size;
-    for (std::size_t i = 0; i < batch; ++i) {
-      const std::size_t j = (offset + i) % pool_size;
-      labels[i] = pool.occupancy[j];
-      for (int d = 0; d < dim; ++d) {
-        points[i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(d)] =
-            pool.points[j * static_cast<std::size_t>(dim) + static_cast<std::size_t>(d)];
-      }
-    }
-    const double t = temperature_at(o, st.step);
-    for (std::size_t i : temps) st.params[i] = t;
-
-    Loss loss_spec;
-    loss_spec.kind = Loss::Kind::kMse;
-    loss_spec.targets = labels;
-    const double loss = ev.backward(st.params, points, loss_spec, grad);
-    bool finite = std::isfinite(loss);
-    for (std::size_t i = 0; finite && i < n; ++i) finite = std::isfinite(grad[i]);
-    if (!finite) {
-      result.stop = StopReason::kNonFinite;
-      result.nonfinite_step = st.step + 1;
-      if (prev.valid) {
-        std::swap(st.params, prev.params);
-        std::swap(st.m, prev.m);
-        std::swap(st.v, prev.v);
-        --st.step;
-        st.pool_step = prev.pool_step;
-        st.rng_at_resample = prev.rng_at_resample;
-        st.curve.resize(prev.curve_size);
-        st.loss_sum = prev.loss_sum;
-        st.loss_count = prev.loss_count;
-        st.reseeded = prev.reseeded;
-        st.switched = prev.switched;
-      }
-      break;
-    }
-    if (!prev.valid || prev.pool_step != st.pool_step) prev.rng_at_resample = st.rng_at_resample;
-    prev.pool_step = st.pool_step;
-    prev.curve_size = st.curve.size();
-    prev.loss_sum = st.loss_sum;
-    prev.loss_count = st.loss_count;
-    prev.reseeded = st.reseeded;
-    prev.switched = st.switched;
-    prev.valid = true;
-
-    // Adam (Kingma & Ba 2015) with bias correction, as torch.optim.Adam, into `prev`.
-    const double k = static_cast<double>(st.step + 1);
-    const double c1 = 1.0 - std::pow(o.beta1, k);
-    const double c2 = 1.0 - std::pow(o.beta2, k);
-    const double lr = lr_at(o, st.step);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!free[i]) {
-        prev.params[i] = st.params[i];
-        prev.m[i] = st.m[i];
-        prev.v[i] = st.v[i];
-        continue;
-      }
-      // For a parameter stepped as its logarithm u = log s: dL/du = s dL/ds, s' = s exp(-du).
-      const double g = in_log[i] ? grad[i] * st.params[i] : grad[i];
-      prev.m[i] = o.beta1 * st.m[i] + (1.0 - o.beta1) * g;
-      prev.v[i] = o.beta2 * st.v[i] + (1.0 - o.beta2) * g * g;
-      const double update = lr * (prev.m[i] / c1) / (std::sqrt(prev.v[i] / c2) + o.adam_eps);
-      const double next = in_log[i] ? st.params[i] * std::exp(-update) : st.params[i] - update;
-      prev.params[i] = project(next, ranges[i]);
-    }
-    std::swap(st.params, prev.params);
-    std::swap(st.m, prev.m);
-    std::swap(st.v, prev.v);
-
-    ++st.step;
-    if (distance && st.step % o.reseed_every == 0 && st.step < reseed_last) {
-      Rng rrng(o.seed ^ kReseedStream ^
-               (static_cast<std::uint64_t>(st.step) * 0x9e3779b97f4a7c15ULL));
-      ReseedOptions ro;
-      if (o.init_slope > 0) ro.slope = o.init_slope;
-      ro.threshold = o.prune_threshold;
-      ro.near_distance = o.sampling.near_distance;
-      const ReseedReport rep =
-          reseed_dead_leaves(model, ev, target, *distance, st.params, st.m, st.v, ro, rrng);
-
-      st.reseeded += rep.moved;
-    }
-    if (o.type_search_every > 0 && st.step % o.type_search_every == 0 &&
-        st.step >= type_search_first && st.step < type_search_last) {
-      Rng trng(o.seed ^ kTypeSearchStream ^
-               (static_cast<std::uint64_t>(st.step) * 0x9e3779b97f4a7c15ULL));
-      TypeSearchOptions to;
-      to.points = o.type_search_points;
-      to.max_switches = o.type_search_switches;
-      to.sampling = o.sampling;
-      const TypeSearchReport rep =
-          search_operator_types(model, ev, target, st.params, st.m, st.v, to, trng);
-      st.switched += rep.switched;
-      ++result.type_searches;
-    }
-    st.loss_sum += loss;
-    ++st.loss_count;
-    report_loss_sum += loss;
-    ++report_loss_count;
-    if (st.step % curve_every == 0 || st.step == o.iters) {
-      st.seconds = seconds_before + seconds_since(start);
-      st.curve.push_back({st.step, st.loss_sum / static_cast<double>(st.loss_count), st.seconds});
-      st.loss_sum = 0;
-      st.loss_count = 0;
-    }
-    if (hooks.checkpoint && hooks.checkpoint_every > 0 && st.step % hooks.checkpoint_every == 0) {
-      st.seconds = seconds_before + seconds_since(start);
-      hooks.checkpoint(model, st);
-    }
-    if (hooks.progress && seconds_since(last_report) >= hooks.progress_seconds) report(false);
-  }
-  st.seconds = seconds_before + seconds_since(start);
-  if (st.loss_count > 0) {
-    st.curve.push_back({st.step, st.loss_sum / static_cast<double>(st.loss_count), st.seconds});
-    st.loss_sum = 0;
-    st.loss_count = 0;
-  }
-  // The temperature the parameters were last trained at (the final one unless stopped early).
-  for (std::size_t i : temps) st.params[i] = temperature_at(o, std::max(0L, st.step - 1));
-  report(true);
-  result.last_good_step = st.step;
-  result.train_seconds = st.seconds;
-  // A first step without a finite loss leaves no state worth keeping (a resumed one is kept).
-  const bool nothing_good = result.stop == StopReason::kNonFinite && !prev.valid && !resume;
-  if (hooks.checkpoint && !nothing_good) hooks.checkpoint(model, st);
-
-  result.trained = with_values(model, st.params);
-  {
-    const std::vector<int> before = operator_types(model, initial);
-    const std::vector<int> after = operator_types(model, st.params);
-    const std::vector<int> bits_before = structure_bits(model, before);
-    const std::vector<int> bits_after = structure_bits(model, after);
-    for (std::size_t i = 0; i < before.size(); ++i) {
-      if (before[i] < 0) continue;
-      ++result.operators_total;
-      result.operators_changed += before[i] != after[i] ? 1 : 0;
-      result.operators_restructured += bits_before[i] != bits_after[i] ? 1 : 0;
-    }
-  }
-  result.reseeded = st.reseeded;
-  result.type_switches = st.switched;
-  result.state = std::move(st);
-  if (result.stop == StopReason::kNonFinite) return result;
-
-  Clock::time_point t0 = Clock::now();
-  result.snapped = snap_operators(result.trained);
-  Rng prune_rng(o.seed ^ (kSamplerStream * 3));
-  const std::vector<float> prune_points = uniform_points(dim, o.prune_points, prune_rng);
-  PruneOptions po;
-  po.threshold = o.prune_threshold;
-  po.threads = o.threads;
-  po.max_primitives = o.prune_max_primitives;
-  result.pruned = prune(result.snapped, prune_points, po, &result.prune);
-  result.prune_seconds = seconds_since(t0);
-
-  if (o.measure) {
-    t0 = Clock::now();
-    MetricsOptions mo = o.metrics;
-    mo.threads = o.threads;
-    result.metrics_trained = measure(result.trained, result.trained.params.values(), target, mo);
-    result.metrics_pruned = measure(result.pruned, result.pruned.params.values(), target, mo);
-    result.metrics_seconds = seconds_since(t0);
-  }
-  return result;
+  return trainer.finish();
 }
 
 }  // namespace fuzzycsg

@@ -5,13 +5,14 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <span>
 #include <string_view>
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/optim/adam.hpp"
+#include "fuzzycsg/optim/schedule.hpp"
 #include "fuzzycsg/trace/convert.hpp"
 
 namespace fuzzycsg::trace {
@@ -19,6 +20,7 @@ namespace fuzzycsg::trace {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 [[noreturn]] void bad(std::string_view field, double v, std::string_view what) {
   throw InputError(fmt::format("refine: {} must be {} (got {})", field, what, v));
@@ -90,18 +92,25 @@ RefineResult refine(const CsgTree& input, const Bitmap& target, const RefineOpti
   };
 
   // Which parameters move, with what learning rate multiplier and lower bound; the sharpness
-  // entries follow the schedule.
+  // entries follow the schedule. A parameter whose gradient is not finite sits the step out,
+  // value and moments.
   const std::size_t n = model.params.size();
-  std::vector<char> free(n, 0);
-  std::vector<double> rate(n, 1.0), floor(n, -std::numeric_limits<double>::infinity());
+  optim::AdamOptions adam_options;
+  adam_options.beta1 = o.beta1;
+  adam_options.beta2 = o.beta2;
+  adam_options.eps = o.adam_eps;
+  adam_options.skip_non_finite = true;
+  optim::Adam adam(n, adam_options);
   std::vector<std::size_t> sharpness;
   for (const fuzzycsg::Node& node : model.nodes) {
     if (node.kind != NodeKind::kPrimitive) continue;
     if (node.step.param) sharpness.push_back(node.step.param->index);
-    for (const ParamRef r : node.intrinsic) floor[r.index] = o.min_size;
-    for (const ParamRef r : node.placement.rotate) rate[r.index] = o.angle_lr;
+    for (const ParamRef r : node.intrinsic) {
+      adam.set_range(r.index, Range::closed(o.min_size, kInf));
+    }
+    for (const ParamRef r : node.placement.rotate) adam.set_rate(r.index, o.angle_lr);
   }
-  for (std::size_t i = 0; i < n; ++i) free[i] = model.params.at(i).fixed ? 0 : 1;
+  for (std::size_t i = 0; i < n; ++i) adam.set_free(i, !model.params.at(i).fixed);
 
   // Every pixel centre, (i + 1/2, H - j - 1/2), and the target there.
   const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
@@ -144,10 +153,9 @@ RefineResult refine(const CsgTree& input, const Bitmap& target, const RefineOpti
       break;
     }
     const double f = iters > 1 ? static_cast<double>(step) / (iters - 1) : 1.0;
-    const double s = o.sharpness_start * std::pow(o.sharpness_end / o.sharpness_start, f);
+    const double s = optim::geometric(o.sharpness_start, o.sharpness_end, f);
     for (const std::size_t i : sharpness) params[i] = s;
-    const double lr =
-        o.lr * (o.lr_end + (1 - o.lr_end) * 0.5 * (1 + std::cos(std::numbers::pi * f)));
+    const double lr = optim::cosine_lr(o.lr, o.lr_end, f);
 
     Loss loss;
     loss.kind = Loss::Kind::kMse;
@@ -169,14 +177,7 @@ RefineResult refine(const CsgTree& input, const Bitmap& target, const RefineOpti
     if (!std::isfinite(value)) break;
     result.loss.push_back(value);
 
-    const double c1 = 1 - std::pow(o.beta1, step + 1), c2 = 1 - std::pow(o.beta2, step + 1);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!free[i] || !std::isfinite(grad[i])) continue;
-      m[i] = o.beta1 * m[i] + (1 - o.beta1) * grad[i];
-      v[i] = o.beta2 * v[i] + (1 - o.beta2) * grad[i] * grad[i];
-      params[i] -= lr * rate[i] * (m[i] / c1) / (std::sqrt(v[i] / c2) + o.adam_eps);
-      if (params[i] < floor[i]) params[i] = floor[i];
-    }
+    adam.step(step + 1, lr, grad, optim::AdamState{params, m, v});
     result.iterations = step + 1;
     if ((step + 1) % o.check_every == 0 || step + 1 == iters) check(step + 1);
   }
