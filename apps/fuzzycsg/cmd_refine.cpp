@@ -13,8 +13,6 @@
 
 #include <fmt/format.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,6 +25,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
+#include "fuzzycsg/diffcsg/report.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
@@ -70,8 +69,9 @@ int run_refine(const RefineArgs& a) {
   if (!shading) throw InputError("--shading: normals or colours");
   const auto loss = diffcsg::loss_from_name(a.loss);
   if (!loss) throw InputError("--loss: l1, l2 or tanh");
-  if (a.method != "adam" && a.method != "cmaes") throw InputError("--method: adam or cmaes");
-  if (a.method == "cmaes" && a.random_views > 0) {
+  const auto method = diffcsg::method_from_name(a.method);
+  if (!method) throw InputError("--method: adam or cmaes");
+  if (*method == diffcsg::Method::kCmaes && a.random_views > 0) {
     throw InputError("--random-views: not with --method cmaes (it needs one objective)");
   }
   if (!(a.cmaes_sigma > 0)) throw InputError("--cmaes-sigma: must be > 0");
@@ -169,7 +169,7 @@ int run_refine(const RefineArgs& a) {
   prepare_output_dir(a.out);
 
   diffcsg::RefineOptions o;
-  o.method = a.method == "cmaes" ? diffcsg::Method::kCmaes : diffcsg::Method::kAdam;
+  o.method = *method;
   o.cmaes_sigma = a.cmaes_sigma;
   o.iterations = a.iters;
   o.lr = a.lr;
@@ -215,54 +215,12 @@ int run_refine(const RefineArgs& a) {
   io::write_tree_file(r.tree, out / "tree.json");
   scad::write_scad(r.tree, r.tree.params.values(), out / "model.scad");
 
-  nlohmann::json report;
-  report["format"] = "fuzzycsg-refine-report";
-  report["version"] = 1;
-  report["command_line"] = command_line();
-  report["model"] = a.model;
-  report["target"] = a.target;
-  report["target_kind"] = target_kind;
-  report["settings"] = {{"method", a.method},
-                        {"shading", diffcsg::shading_name(*shading)},
-                        {"loss", diffcsg::loss_name(*loss)},
-                        {"views", static_cast<int>(target.cameras.size())},
-                        {"size", {check.width, check.height}},
-                        {"iters", a.iters},
-                        {"lr", a.lr},
-                        {"lr_relative", a.lr_relative},
-                        {"stop", a.stop},
-                        {"random_views", a.random_views},
-                        {"shared_only", a.shared_only},
-                        {"seed", a.seed},
-                        {"intersection_aa", !a.no_intersection_aa},
-                        {"fov", check.fov_deg},
-                        {"triangles", model_scene.triangle_count()}};
-  report["steps"] = r.steps;
-  report["converged"] = r.converged;
-  report["vanished"] = r.vanished;
+  const diffcsg::RefineReportContext context{command_line(), a.model, a.target, target_kind,
+                                             a.shared_only};
+  io::write_text_file_atomic(
+      out / "report.json",
+      diffcsg::refine_report_json(model.tree, model_scene, target, o, r, context));
   const std::vector<std::string> paths = node_paths(r.tree);
-  report["unseen_primitives"] = nlohmann::json::array();
-  for (const int n : r.unseen_primitives) {
-    report["unseen_primitives"].push_back(paths[static_cast<std::size_t>(n)]);
-  }
-  report["loss"] = r.loss;
-  report["check_mse"] = nlohmann::json::array();
-  for (const auto& [step, mse] : r.check_mse) report["check_mse"].push_back({step, mse});
-  report["seconds"] = r.seconds;
-  const int passes = std::max(1, static_cast<int>(r.loss.size()));
-  report["seconds_per_step"] = {{"visibility", r.seconds_visibility / passes},
-                                {"edges", r.seconds_edges / passes},
-                                {"antialias", r.seconds_antialias / passes},
-                                {"backward", r.seconds_backward / passes}};
-  report["parameters"] = nlohmann::json::array();
-  for (std::size_t k = 0; k < r.tree.params.size(); ++k) {
-    const Parameter& p = r.tree.params.at(k);
-    report["parameters"].push_back({{"name", p.name},
-                                    {"before", model.tree.params.at(k).value},
-                                    {"after", p.value},
-                                    {"fixed", p.fixed}});
-  }
-  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
   if (!r.unseen_primitives.empty()) {
     fmt::print(stderr, "refine: warning: {} primitive(s) no longer seen in any view (first {})\n",
                r.unseen_primitives.size(),
