@@ -13,8 +13,6 @@
 
 #include <fmt/format.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -27,6 +25,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
+#include "fuzzycsg/diffcsg/report.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
@@ -58,7 +57,8 @@ diffcsg::OpenscadModel read_model(const std::string& path, const diffcsg::Tessel
   return {io::read_tree_file(path), t};
 }
 
-int run_refine(const RefineArgs& a) {
+// The ranges of the numeric options.
+void check_ranges(const RefineArgs& a) {
   if (a.views < 1 || a.views > 64) throw InputError("--views: must be in [1, 64]");
   if (a.size < 8 || a.size > 4096) throw InputError("--size: must be in [8, 4096]");
   if (a.iters < 0) throw InputError("--iters: must not be negative");
@@ -66,12 +66,114 @@ int run_refine(const RefineArgs& a) {
   if (!(a.stop >= 0)) throw InputError("--stop: must not be negative");
   if (a.random_views < 0) throw InputError("--random-views: must not be negative");
   if (!(a.fov > 0 && a.fov < 180)) throw InputError("--fov: must be in (0, 180) degrees");
+}
+
+// The target: a views file, a mesh, or a model drawn from --views cameras about it; `kind` says
+// which ("views", "mesh", "model").
+diffcsg::RefineTarget read_target(const RefineArgs& a, diffcsg::Shading shading,
+                                  const diffcsg::TessellationOptions& tess,
+                                  const diffcsg::Scene& model_scene, std::string& kind) {
+  diffcsg::RefineTarget target;
+  target.shading = shading;
+  std::shared_ptr<const diffcsg::PreparedScene> target_scene;
+  if (has_extension(a.target, {".json"}) && diffcsg::is_views_file(a.target)) {
+    kind = "views";
+    diffcsg::ViewSet set = diffcsg::read_views(a.target);
+    if (set.shading != shading) {
+      throw InputError(fmt::format("{}: its images are {}, --shading {}", a.target,
+                                   diffcsg::shading_name(set.shading), a.shading));
+    }
+    if (a.random_views > 0) {
+      throw InputError("--random-views: the target's images cannot be drawn from other views");
+    }
+    if (a.size_given) {
+      for (std::size_t v = 0; v < set.images.size(); ++v) {
+        if (set.images[v].width != a.size || set.images[v].height != a.size) {
+          throw InputError(fmt::format("{}: view {}'s image is {}x{}, --size {}", a.target, v,
+                                       set.images[v].width, set.images[v].height, a.size));
+        }
+      }
+    }
+    target.cameras = std::move(set.cameras);
+    target.images = std::move(set.images);
+  } else {
+    diffcsg::Scene scene;
+    if (has_extension(a.target, {".obj", ".stl", ".ply", ".off"})) {
+      kind = "mesh";
+      if (shading == diffcsg::Shading::kColours) {
+        throw InputError("--shading colours: a mesh has no primitives to colour; use normals");
+      }
+      scene = diffcsg::read_mesh_scene(a.target);
+    } else {
+      kind = "model";
+      const diffcsg::OpenscadModel m = read_model(a.target, tess);
+      scene = diffcsg::scene_from_tree(m.tree, a.target, m.tessellation);
+      if (shading == diffcsg::Shading::kColours &&
+          scene.primitives.size() != model_scene.primitives.size()) {
+        throw InputError(fmt::format(
+            "{}: {} primitives, the model {}: colour images need the same program (primitive k "
+            "for primitive k)",
+            a.target, scene.primitives.size(), model_scene.primitives.size()));
+      }
+    }
+    target_scene = std::make_shared<const diffcsg::PreparedScene>(
+        diffcsg::prepare_scene(std::move(scene), !a.no_intersection_aa));
+    const auto [lo, hi] = target_scene->scene.bounds();
+    const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+    const double distance =
+        a.distance > 0 ? a.distance
+                       : diffcsg::framing_distance(target_scene->scene, centre, a.fov, 1.2);
+    target.cameras =
+        diffcsg::orbit_views(centre, distance, a.views, a.elevation, a.size, a.size, a.fov);
+    const int threads = a.threads;
+    target.render = [target_scene, shading, threads](const diffcsg::Camera& c) {
+      return diffcsg::render_image(*target_scene, c, shading, threads);
+    };
+    for (const diffcsg::Camera& c : target.cameras) target.images.push_back(target.render(c));
+  }
+  return target;
+}
+
+// The refinement's options (with a progress line every twentieth of --iters unless --quiet).
+diffcsg::RefineOptions refine_options(const RefineArgs& a, diffcsg::Method method,
+                                      diffcsg::Loss loss) {
+  diffcsg::RefineOptions o;
+  o.method = method;
+  o.cmaes_sigma = a.cmaes_sigma;
+  o.iterations = a.iters;
+  o.lr = a.lr;
+  o.lr_relative = a.lr_relative;
+  o.loss = loss;
+  o.stop_mse = a.stop;
+  o.intersection_aa = !a.no_intersection_aa;
+  o.random_view_every = a.random_views;
+  o.seed = static_cast<std::uint64_t>(a.seed);
+  o.threads = a.threads;
+  if (!a.quiet) {
+    o.progress = [start = std::chrono::steady_clock::now(), every = std::max(1, a.iters / 20)](
+                     int step, double l) {
+      if (step % every == 0) {
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        fmt::print("refine: step {:>5}  loss {:.4g}  {:.1f} steps/s\n", step, l,
+                   step / std::max(s, 1e-9));
+        std::fflush(stdout);
+      }
+      return true;
+    };
+  }
+  return o;
+}
+
+int run_refine(const RefineArgs& a) {
+  check_ranges(a);
   const auto shading = diffcsg::shading_from_name(a.shading);
   if (!shading) throw InputError("--shading: normals or colours");
   const auto loss = diffcsg::loss_from_name(a.loss);
   if (!loss) throw InputError("--loss: l1, l2 or tanh");
-  if (a.method != "adam" && a.method != "cmaes") throw InputError("--method: adam or cmaes");
-  if (a.method == "cmaes" && a.random_views > 0) {
+  const auto method = diffcsg::method_from_name(a.method);
+  if (!method) throw InputError("--method: adam or cmaes");
+  if (*method == diffcsg::Method::kCmaes && a.random_views > 0) {
     throw InputError("--random-views: not with --method cmaes (it needs one objective)");
   }
   if (!(a.cmaes_sigma > 0)) throw InputError("--cmaes-sigma: must be > 0");
@@ -96,67 +198,8 @@ int run_refine(const RefineArgs& a) {
   const diffcsg::Scene model_scene =
       diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
 
-  // The target: views, a mesh, or a model.
-  diffcsg::RefineTarget target;
-  target.shading = *shading;
   std::string target_kind;
-  std::shared_ptr<const diffcsg::PreparedScene> target_scene;
-  if (has_extension(a.target, {".json"}) && diffcsg::is_views_file(a.target)) {
-    target_kind = "views";
-    diffcsg::ViewSet set = diffcsg::read_views(a.target);
-    if (set.shading != *shading) {
-      throw InputError(fmt::format("{}: its images are {}, --shading {}", a.target,
-                                   diffcsg::shading_name(set.shading), a.shading));
-    }
-    if (a.random_views > 0) {
-      throw InputError("--random-views: the target's images cannot be drawn from other views");
-    }
-    if (a.size_given) {
-      for (std::size_t v = 0; v < set.images.size(); ++v) {
-        if (set.images[v].width != a.size || set.images[v].height != a.size) {
-          throw InputError(fmt::format("{}: view {}'s image is {}x{}, --size {}", a.target, v,
-                                       set.images[v].width, set.images[v].height, a.size));
-        }
-      }
-    }
-    target.cameras = std::move(set.cameras);
-    target.images = std::move(set.images);
-  } else {
-    diffcsg::Scene scene;
-    if (has_extension(a.target, {".obj", ".stl", ".ply", ".off"})) {
-      target_kind = "mesh";
-      if (*shading == diffcsg::Shading::kColours) {
-        throw InputError("--shading colours: a mesh has no primitives to colour; use normals");
-      }
-      scene = diffcsg::read_mesh_scene(a.target);
-    } else {
-      target_kind = "model";
-      const diffcsg::OpenscadModel m = read_model(a.target, tess);
-      scene = diffcsg::scene_from_tree(m.tree, a.target, m.tessellation);
-      if (*shading == diffcsg::Shading::kColours &&
-          scene.primitives.size() != model_scene.primitives.size()) {
-        throw InputError(fmt::format(
-            "{}: {} primitives, the model {}: colour images need the same program (primitive k "
-            "for primitive k)",
-            a.target, scene.primitives.size(), model_scene.primitives.size()));
-      }
-    }
-    target_scene = std::make_shared<const diffcsg::PreparedScene>(
-        diffcsg::prepare_scene(std::move(scene), !a.no_intersection_aa));
-    const auto [lo, hi] = target_scene->scene.bounds();
-    const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-    const double distance =
-        a.distance > 0 ? a.distance
-                       : diffcsg::framing_distance(target_scene->scene, centre, a.fov, 1.2);
-    target.cameras =
-        diffcsg::orbit_views(centre, distance, a.views, a.elevation, a.size, a.size, a.fov);
-    const int threads = a.threads;
-    const diffcsg::Shading sh = *shading;
-    target.render = [target_scene, sh, threads](const diffcsg::Camera& c) {
-      return diffcsg::render_image(*target_scene, c, sh, threads);
-    };
-    for (const diffcsg::Camera& c : target.cameras) target.images.push_back(target.render(c));
-  }
+  const diffcsg::RefineTarget target = read_target(a, *shading, tess, model_scene, target_kind);
   // Cameras that see nothing of the model are bad input, found before anything is written.
   int seen = 0;
   for (const diffcsg::Camera& c : target.cameras) {
@@ -168,31 +211,7 @@ int run_refine(const RefineArgs& a) {
   }
   prepare_output_dir(a.out);
 
-  diffcsg::RefineOptions o;
-  o.method = a.method == "cmaes" ? diffcsg::Method::kCmaes : diffcsg::Method::kAdam;
-  o.cmaes_sigma = a.cmaes_sigma;
-  o.iterations = a.iters;
-  o.lr = a.lr;
-  o.lr_relative = a.lr_relative;
-  o.loss = *loss;
-  o.stop_mse = a.stop;
-  o.intersection_aa = !a.no_intersection_aa;
-  o.random_view_every = a.random_views;
-  o.seed = static_cast<std::uint64_t>(a.seed);
-  o.threads = a.threads;
-  const auto start = std::chrono::steady_clock::now();
-  if (!a.quiet) {
-    o.progress = [&, every = std::max(1, a.iters / 20)](int step, double l) {
-      if (step % every == 0) {
-        const double s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        fmt::print("refine: step {:>5}  loss {:.4g}  {:.1f} steps/s\n", step, l,
-                   step / std::max(s, 1e-9));
-        std::fflush(stdout);
-      }
-      return true;
-    };
-  }
+  const diffcsg::RefineOptions o = refine_options(a, *method, *loss);
   diffcsg::RefineResult r = diffcsg::refine(model.tree, target, o, model.tessellation);
   for (std::size_t k = 0; k < r.tree.params.size(); ++k) {  // as the file had them
     r.tree.params.at(k).fixed = was_fixed[k];
@@ -215,54 +234,12 @@ int run_refine(const RefineArgs& a) {
   io::write_tree_file(r.tree, out / "tree.json");
   scad::write_scad(r.tree, r.tree.params.values(), out / "model.scad");
 
-  nlohmann::json report;
-  report["format"] = "fuzzycsg-refine-report";
-  report["version"] = 1;
-  report["command_line"] = command_line();
-  report["model"] = a.model;
-  report["target"] = a.target;
-  report["target_kind"] = target_kind;
-  report["settings"] = {{"method", a.method},
-                        {"shading", diffcsg::shading_name(*shading)},
-                        {"loss", diffcsg::loss_name(*loss)},
-                        {"views", static_cast<int>(target.cameras.size())},
-                        {"size", {check.width, check.height}},
-                        {"iters", a.iters},
-                        {"lr", a.lr},
-                        {"lr_relative", a.lr_relative},
-                        {"stop", a.stop},
-                        {"random_views", a.random_views},
-                        {"shared_only", a.shared_only},
-                        {"seed", a.seed},
-                        {"intersection_aa", !a.no_intersection_aa},
-                        {"fov", check.fov_deg},
-                        {"triangles", model_scene.triangle_count()}};
-  report["steps"] = r.steps;
-  report["converged"] = r.converged;
-  report["vanished"] = r.vanished;
+  const diffcsg::RefineReportContext context{command_line(), a.model, a.target, target_kind,
+                                             a.shared_only};
+  io::write_text_file_atomic(
+      out / "report.json",
+      diffcsg::refine_report_json(model.tree, model_scene, target, o, r, context));
   const std::vector<std::string> paths = node_paths(r.tree);
-  report["unseen_primitives"] = nlohmann::json::array();
-  for (const int n : r.unseen_primitives) {
-    report["unseen_primitives"].push_back(paths[static_cast<std::size_t>(n)]);
-  }
-  report["loss"] = r.loss;
-  report["check_mse"] = nlohmann::json::array();
-  for (const auto& [step, mse] : r.check_mse) report["check_mse"].push_back({step, mse});
-  report["seconds"] = r.seconds;
-  const int passes = std::max(1, static_cast<int>(r.loss.size()));
-  report["seconds_per_step"] = {{"visibility", r.seconds_visibility / passes},
-                                {"edges", r.seconds_edges / passes},
-                                {"antialias", r.seconds_antialias / passes},
-                                {"backward", r.seconds_backward / passes}};
-  report["parameters"] = nlohmann::json::array();
-  for (std::size_t k = 0; k < r.tree.params.size(); ++k) {
-    const Parameter& p = r.tree.params.at(k);
-    report["parameters"].push_back({{"name", p.name},
-                                    {"before", model.tree.params.at(k).value},
-                                    {"after", p.value},
-                                    {"fixed", p.fixed}});
-  }
-  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
   if (!r.unseen_primitives.empty()) {
     fmt::print(stderr, "refine: warning: {} primitive(s) no longer seen in any view (first {})\n",
                r.unseen_primitives.size(),

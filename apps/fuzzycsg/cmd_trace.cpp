@@ -14,7 +14,6 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,6 +28,7 @@
 #include "fuzzycsg/trace/morph_frames.hpp"
 #include "fuzzycsg/trace/pictures.hpp"
 #include "fuzzycsg/trace/refine.hpp"
+#include "fuzzycsg/trace/report.hpp"
 #include "fuzzycsg/trace/search.hpp"
 
 namespace fuzzycsg::app {
@@ -36,7 +36,6 @@ namespace fuzzycsg::app {
 namespace {
 
 namespace fs = std::filesystem;
-using json = nlohmann::ordered_json;
 using trace::Bitmap;
 using trace::CsgTree;
 using trace::SearchOptions;
@@ -174,90 +173,6 @@ void remove_stale_distinct(const fs::path& out, std::size_t keep) {
   fs::remove(root, ec);  // only when empty
 }
 
-double rate(std::uint64_t improved, std::uint64_t tried) {
-  return tried > 0 ? static_cast<double>(improved) / static_cast<double>(tried) : 0.0;
-}
-
-json operators_json(const std::array<std::uint64_t, 4>& tried,
-                    const std::array<std::uint64_t, 4>& improved) {
-  json j = json::object();
-  for (std::size_t i = 0; i < 4; ++i) {
-    j[trace::kPerturbationNames[i]] = {
-        {"tried", tried[i]}, {"improved", improved[i]}, {"rate", rate(improved[i], tried[i])}};
-  }
-  return j;
-}
-
-json settings_json(const SearchOptions& o) {
-  json j;
-  j["seed"] = o.seed;
-  j["population"] = o.population;
-  j["max_trees"] = o.max_trees;
-  j["patience"] = o.patience;
-  j["refocus"] = o.refocus;
-  j["initial_size"] = o.initial_size;
-  j["initial_sd"] = o.initial_sd;
-  j["added_size"] = o.added_size;
-  j["added_sd"] = o.added_sd;
-  json p = json::object();
-  for (std::size_t i = 0; i < 4; ++i) p[trace::kPerturbationNames[i]] = o.probabilities[i];
-  j["probabilities"] = p;
-  j["iterations"] = o.local.max_iterations;
-  j["k"] = o.local.k;
-  j["local"] = {{"margin", o.local.margin},       {"shift_step", o.local.shift_step},
-                {"size_step", o.local.size_step}, {"angle_step", o.local.angle_step},
-                {"min_size", o.local.min_size},   {"max_steps", o.local.max_steps},
-                {"prune", o.local.prune},         {"trust_settled", o.local.trust_settled}};
-  j["threads"] = o.threads;
-  j["batch"] = o.batch;
-  j["time_limit"] = o.time_limit;
-  j["statistics_window"] = o.statistics_window;
-  return j;
-}
-
-json statistics_json(const trace::SearchStatistics& s) {
-  json j;
-  j["trees_evaluated"] = s.trees_evaluated;
-  j["tree_evaluations"] = s.tree_evaluations;
-  j["primitives_scanned"] = s.primitives_scanned;
-  j["iterations"] = s.iterations;
-  j["stopped_by"] = s.stopped_by ? s.stopped_by : "";
-  j["best_found_at"] = s.best_found_at;
-  j["seconds"] = s.seconds;
-  j["threads"] = s.threads;
-  j["operators"] = operators_json(s.tried, s.improved);
-  json history = json::array();
-  for (const trace::OperatorWindow& w : s.history) {
-    json row;
-    row["first_iteration"] = w.first_iteration;
-    row["last_iteration"] = w.last_iteration;
-    row["operators"] = operators_json(w.tried, w.improved);
-    history.push_back(row);
-  }
-  j["history"] = history;
-  json best = json::array();
-  for (const auto& [trees, score] : s.best_score) best.push_back({trees, score});
-  j["best_score"] = best;
-  return j;
-}
-
-json score_json(const trace::Score& s, const CsgTree& tree) {
-  json j;
-  j["score"] = s.total();
-  j["excess"] = s.excess;
-  j["uncovered"] = s.uncovered;
-  j["mismatch"] = s.mismatch();
-  j["primitives"] = s.primitives;
-  j["k"] = s.k;
-  j["depth"] = tree.empty() ? 0 : tree.depth();
-  j["expression"] = trace::expression(tree);
-  return j;
-}
-
-json bitmap_json(const std::string& path, const Bitmap& b) {
-  return {{"path", path}, {"width", b.width()}, {"height", b.height()}, {"pixels_set", b.count()}};
-}
-
 // A traced tree's files: tree.json, result.png (and primitives.svg when `svg`), in memory.
 struct TreeFiles {
   std::string tree_json, result_png, primitives_svg;
@@ -294,86 +209,41 @@ int run_trace(const TraceArgs& a) {
   const fs::path out(a.out_dir);
   prepare_output_dir(out);
 
-  json report;
-  report["format"] = "fuzzycsg-trace-report";
-  report["version"] = 1;
-  report["verb"] = "trace";
-  report["command_line"] = command_line();
-  report["bitmap"] = bitmap_json(a.bitmap, target);
-  json settings = settings_json(options);
-  settings["runs"] = a.runs;
-  if (a.runs > 1) settings["min_difference"] = a.min_difference;
-  if (a.refine) {
-    settings["refine"] = {{"iterations", ro.iterations},
-                          {"batch", ro.batch},
-                          {"lr", ro.lr},
-                          {"lr_end", ro.lr_end},
-                          {"angle_lr", ro.angle_lr},
-                          {"sharpness_start", ro.sharpness_start},
-                          {"sharpness_end", ro.sharpness_end},
-                          {"min_size", ro.min_size},
-                          {"check_every", ro.check_every},
-                          {"time_limit", ro.time_limit}};
-  }
-  report["settings"] = settings;
-
-  trace::SearchResult best;
+  trace::TraceOutcome outcome;
+  outcome.runs = a.runs;
+  outcome.min_difference = a.min_difference;
+  trace::TraceReportContext context{command_line(), a.bitmap, {}};
   std::vector<std::pair<std::string, TreeFiles>> distinct_files;
   if (a.runs == 1) {
-    best = trace::search(target, options);
+    outcome.search = trace::search(target, options);
   } else {
-    trace::Variety v = trace::search_variety(target, options, a.runs, a.min_difference);
+    outcome.variety = trace::search_variety(target, options, a.runs, a.min_difference);
+    const trace::Variety& v = outcome.variety;
     if (v.runs.empty() || v.distinct.empty()) {
       throw std::runtime_error("search_variety returned no runs");
     }
-    json runs = json::array();
-    for (std::size_t i = 0; i < v.runs.size(); ++i) {
-      json r;
-      r["run"] = i;
-      r["seed"] = options.seed + i;
-      const json fields = score_json(v.runs[i].score, v.runs[i].best);
-      for (const auto& [key, value] : fields.items()) r[key] = value;
-      r["statistics"] = statistics_json(v.runs[i].statistics);
-      runs.push_back(r);
-    }
-    json distinct = json::array();
     for (std::size_t d = 0; d < v.distinct.size(); ++d) {
       const auto run = static_cast<std::size_t>(v.distinct[d]);
       const std::string dir = fmt::format("distinct/{:02}", d + 1);
-      distinct.push_back({{"directory", dir},
-                          {"run", run},
-                          {"seed", options.seed + run},
-                          {"score", v.runs[run].score.total()}});
+      context.distinct_directories.push_back(dir);
       distinct_files.emplace_back(dir, tree_files(v.runs[run].best, target, false));
     }
-    report["runs"] = runs;
-    report["distinct"] = distinct;
-    best = v.runs[static_cast<std::size_t>(v.distinct.front())];
-    report["best_run"] = v.distinct.front();
+    outcome.search = v.runs[static_cast<std::size_t>(v.distinct.front())];
   }
   // --refine: the best tree refined by gradient descent on its fuzzy relaxation; it replaces
   // the search's tree only when its crisp score is lower (the search's is kept as
   // search_tree.json).
+  trace::SearchResult best = outcome.search;
   std::string search_tree;
-  std::optional<trace::RefineResult> refined;
+  const trace::RefineResult* refined = nullptr;
   if (a.refine) {
-    refined = trace::refine(best.best, target, ro);
-    json r;
-    r["improved"] = refined->improved;
-    r["iterations"] = refined->iterations;
-    r["best_iteration"] = refined->best_iteration;
-    r["seconds"] = refined->seconds;
-    r["before"] = score_json(refined->before, best.best);
-    r["after"] = score_json(refined->after, refined->tree);
-    r["final_loss"] = refined->loss.empty() ? 0.0 : refined->loss.back();
-    report["refine"] = r;
+    outcome.refinement = trace::TraceOutcome::Refinement{ro, trace::refine(best.best, target, ro)};
+    refined = &outcome.refinement->result;
     search_tree = io::write_tree_string(trace::to_tree(best.best, target.width(), target.height()));
     best.best = refined->tree;
     best.score = refined->after;
   }
-  const json result = score_json(best.score, best.best);
-  for (const auto& [key, value] : result.items()) report[key] = value;
-  report["statistics"] = statistics_json(best.statistics);
+  const std::string report = trace::trace_report_json(target, options, outcome, context);
   const TreeFiles files = tree_files(best.best, target, true);
 
   // Everything is computed; each file is written atomically, the report last.
@@ -392,7 +262,7 @@ int run_trace(const TraceArgs& a) {
     io::write_text_file_atomic(out / dir / "tree.json", f.tree_json);
     io::write_text_file_atomic(out / dir / "result.png", f.result_png);
   }
-  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
+  io::write_text_file_atomic(out / "report.json", report);
 
   if (!a.search.quiet) {
     const trace::SearchStatistics& s = best.statistics;
@@ -422,9 +292,10 @@ int run_morph(const MorphArgs& a) {
   if (a.delay_ms < 0 || a.delay_ms > 600000) {
     throw InputError(fmt::format("--delay: must lie in [0, 600000] ms, got {}", a.delay_ms));
   }
-  const trace::Rotation rotation = a.rotation == "cw"    ? trace::Rotation::kClockwise
-                                   : a.rotation == "ccw" ? trace::Rotation::kCounterClockwise
-                                                         : trace::Rotation::kShortest;
+  const std::optional<trace::Rotation> rotation = trace::rotation_from_name(a.rotation);
+  if (!rotation) {
+    throw InputError(fmt::format("--rotation: shortest, cw or ccw, got {}", a.rotation));
+  }
   const SearchOptions options = search_options(a.search);
   const Bitmap first = trace::read_bitmap(a.first);
   const Bitmap second = trace::read_bitmap(a.second);
@@ -447,7 +318,7 @@ int run_morph(const MorphArgs& a) {
 
   const trace::MorphResult m = trace::search_morph(first, second, options);
   const int width = first.width(), height = first.height();
-  const trace::MorphInterpolator morph(m.first, m.second, rotation);
+  const trace::MorphInterpolator morph(m.first, m.second, *rotation);
   const int scale = trace::display_scale(width, height);
   const int digits = std::max(3, static_cast<int>(std::to_string(a.frames - 1).size()));
   const auto frame_t = [&](int i) {
@@ -476,53 +347,33 @@ int run_morph(const MorphArgs& a) {
   const std::vector<std::array<std::uint8_t, 3>> palette{
       {trace::kOutsideRgb[0], trace::kOutsideRgb[1], trace::kOutsideRgb[2]},
       {trace::kInsideRgb[0], trace::kInsideRgb[1], trace::kInsideRgb[2]}};
-  json frame_list = json::array();
+  std::vector<trace::MorphFrame> frame_list;
   const std::string gif =
       trace::encode_gif(a.frames, width * scale, height * scale, palette, a.delay_ms, [&](int i) {
         const Bitmap f = morph.frame(frame_t(i), width, height);
         const std::string name = fmt::format("frame_{:0{}}.png", i, digits);
         io::write_text_file_atomic(frame_dir / name, trace::bitmap_png(f, scale));
-        frame_list.push_back(
-            {{"file", "frames/" + name}, {"t", frame_t(i)}, {"pixels_set", f.count()}});
+        frame_list.push_back({"frames/" + name, frame_t(i), f.count()});
         return trace::indexed_image(f, scale, 0, 1);
       });
 
-  json report;
-  report["format"] = "fuzzycsg-trace-report";
-  report["version"] = 1;
-  report["verb"] = "morph";
-  report["command_line"] = command_line();
-  report["first_bitmap"] = bitmap_json(a.first, first);
-  report["second_bitmap"] = bitmap_json(a.second, second);
-  json settings = settings_json(options);
-  settings["frames"] = a.frames;
-  settings["rotation"] = a.rotation;
-  settings["delay_ms"] = a.delay_ms;
-  report["settings"] = settings;
-  report["score"] = m.score;
-  report["first"] = score_json(m.first_score, m.first);
-  report["second"] = score_json(m.second_score, m.second);
-  int changed = 0;
-  const std::vector<int> leaves = m.first.empty() ? std::vector<int>{} : m.first.leaves();
-  for (const int leaf : leaves) {
-    if (m.first.primitive(leaf).shape != m.second.primitive(leaf).shape) ++changed;
-  }
-  report["primitives"] = leaves.size();
-  report["shape_changes"] = changed;
-  report["statistics"] = statistics_json(m.statistics);
-  report["frames"] = frame_list;
+  const trace::MorphAnimation animation{a.frames, *rotation, a.delay_ms};
+  const std::string report =
+      trace::morph_report_json(first, second, options, animation, m, frame_list,
+                               trace::MorphReportContext{command_line(), a.first, a.second});
 
   io::write_tree_file(trace::to_tree(m.first, width, height), out / "first.json");
   io::write_tree_file(trace::to_tree(m.second, width, height), out / "second.json");
   io::write_text_file_atomic(out / "morph.gif", gif);
-  io::write_text_file_atomic(out / "report.json", report.dump(2) + "\n");
+  io::write_text_file_atomic(out / "report.json", report);
 
   if (!a.search.quiet) {
+    const int leaves = m.first.empty() ? 0 : m.first.primitive_count();
     fmt::print("morph: {} -> {} ({}x{})\n", a.first, a.second, width, height);
     fmt::print("morph: first {}\n", summary(m.first_score));
     fmt::print("morph: second {}\n", summary(m.second_score));
     fmt::print("morph: {} leaves, {} change shape; {} trees evaluated in {:.2f}s (stopped by {})\n",
-               leaves.size(), changed, m.statistics.trees_evaluated, m.statistics.seconds,
+               leaves, trace::shape_changes(m), m.statistics.trees_evaluated, m.statistics.seconds,
                m.statistics.stopped_by ? m.statistics.stopped_by : "?");
     fmt::print(
         "morph: wrote {}/{{first.json, second.json, report.json, morph.gif, frames/ ({} "

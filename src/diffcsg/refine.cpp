@@ -135,6 +135,23 @@ Image colour_image(const Frame& frame) {
   return img;
 }
 
+std::string_view method_name(Method m) {
+  switch (m) {
+    case Method::kAdam:
+      return "adam";
+    case Method::kCmaes:
+      return "cmaes";
+  }
+  return "adam";
+}
+
+std::optional<Method> method_from_name(std::string_view name) {
+  for (const Method m : {Method::kAdam, Method::kCmaes}) {
+    if (name == method_name(m)) return m;
+  }
+  return std::nullopt;
+}
+
 std::string_view loss_name(Loss l) {
   switch (l) {
     case Loss::kL1:

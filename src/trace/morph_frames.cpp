@@ -88,6 +88,26 @@ bool contains(const RoundedRect& r, double px, double py) {
   return qu * qu + qv * qv < corner * corner;
 }
 
+std::string_view rotation_name(Rotation r) {
+  switch (r) {
+    case Rotation::kShortest:
+      return "shortest";
+    case Rotation::kClockwise:
+      return "cw";
+    case Rotation::kCounterClockwise:
+      return "ccw";
+  }
+  return "shortest";
+}
+
+std::optional<Rotation> rotation_from_name(std::string_view name) {
+  for (const Rotation r :
+       {Rotation::kShortest, Rotation::kClockwise, Rotation::kCounterClockwise}) {
+    if (name == rotation_name(r)) return r;
+  }
+  return std::nullopt;
+}
+
 double interpolate_angle(double theta0, double theta1, double t, Rotation rotation) {
   double d = positive_mod(theta1 - theta0, 180.0);  // [0, 180): clockwise
   switch (rotation) {

@@ -15,6 +15,7 @@
 //   pipeline.hpp      the renderer whole: forward and backward.
 //   targets.hpp       what refinement matches: meshes, images and their cameras (views files).
 //   refine.hpp        refine: Adam or CMA-ES on the image loss.
+//   report.hpp        report.json of a refinement.
 
 #include "fuzzycsg/diffcsg/antialias.hpp"
 #include "fuzzycsg/diffcsg/edges.hpp"
@@ -23,6 +24,7 @@
 #include "fuzzycsg/diffcsg/pipeline.hpp"
 #include "fuzzycsg/diffcsg/products.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
+#include "fuzzycsg/diffcsg/report.hpp"
 #include "fuzzycsg/diffcsg/scene.hpp"
 #include "fuzzycsg/diffcsg/shade.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"

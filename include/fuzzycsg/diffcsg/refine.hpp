@@ -59,6 +59,8 @@ std::vector<double> parameter_scales(const Tree& tree,
 // fixed views, counts one step per evaluation (a render of every fixed view), and searches
 // every free parameter from steps of cmaes_sigma times its natural scale (parameter_scales).
 enum class Method { kAdam, kCmaes };
+std::string_view method_name(Method m);  // "adam", "cmaes"
+std::optional<Method> method_from_name(std::string_view name);
 
 struct RefineOptions {
   Method method = Method::kAdam;

@@ -19,8 +19,10 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "fuzzycsg/trace/bitmap.hpp"
@@ -29,6 +31,8 @@
 namespace fuzzycsg::trace {
 
 enum class Rotation : std::uint8_t { kShortest, kClockwise, kCounterClockwise };
+std::string_view rotation_name(Rotation r);  // "shortest", "cw", "ccw"
+std::optional<Rotation> rotation_from_name(std::string_view name);
 
 struct RoundedRect {
   double x = 0, y = 0;  // centre (pixel units, y down)

@@ -12,6 +12,7 @@
 //   convert.hpp       to_tree and from_tree: the tracer's trees as the project's trees.
 //   morph_frames.hpp  the frames of a morph, and the animated GIF.
 //   pictures.hpp      pictures of a traced tree: PNG, SVG outlines, the expression.
+//   report.hpp        report.json of a trace and of a morph.
 
 #include "fuzzycsg/trace/bitmap.hpp"
 #include "fuzzycsg/trace/convert.hpp"
@@ -21,4 +22,5 @@
 #include "fuzzycsg/trace/optimize.hpp"
 #include "fuzzycsg/trace/pictures.hpp"
 #include "fuzzycsg/trace/refine.hpp"
+#include "fuzzycsg/trace/report.hpp"
 #include "fuzzycsg/trace/search.hpp"
