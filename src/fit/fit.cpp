@@ -1,5 +1,4 @@
 #include "fuzzycsg/fit/fit.hpp"
-#include "fuzzycsg/core/snap.hpp"
 
 #include <fmt/core.h>
 

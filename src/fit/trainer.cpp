@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/snap.hpp"
 #include "fuzzycsg/fit/types.hpp"
 
 namespace fuzzycsg::fit_detail {
