@@ -86,16 +86,7 @@ class Writer {
     printer_.raw(std::to_string(kVersion));
     printer_.key("dim");
     printer_.raw(std::to_string(tree_.dim));
-    if (tree_.domain) {
-      const auto n = static_cast<std::size_t>(tree_.dim);
-      printer_.key("domain");
-      printer_.begin_object();
-      printer_.key("min");
-      printer_.raw(plain_list(std::span(tree_.domain->min).first(n)));
-      printer_.key("max");
-      printer_.raw(plain_list(std::span(tree_.domain->max).first(n)));
-      printer_.end_object();
-    }
+    if (tree_.domain) box("domain", *tree_.domain);
     bool any_shared = false;
     for (const Parameter& p : tree_.params.entries()) {
       if (!p.shared) continue;
@@ -116,6 +107,18 @@ class Writer {
   }
 
  private:
+  // {"min": [...], "max": [...]}: the tree's first dim axes of a box.
+  void box(std::string_view key, const Domain& d) {
+    const auto n = static_cast<std::size_t>(tree_.dim);
+    printer_.key(key);
+    printer_.begin_object();
+    printer_.key("min");
+    printer_.raw(plain_list(std::span(d.min).first(n)));
+    printer_.key("max");
+    printer_.raw(plain_list(std::span(d.max).first(n)));
+    printer_.end_object();
+  }
+
   static std::string plain_list(std::span<const double> values) {
     std::string s = "[";
     for (std::size_t k = 0; k < values.size(); ++k) s += (k ? ", " : "") + json_number(values[k]);
@@ -251,16 +254,7 @@ class Writer {
       }
       field("cells", cells + "]");
       field("degree", std::to_string(node.spline_degree));
-      if (node.spline_box) {
-        const auto n = static_cast<std::size_t>(tree_.dim);
-        printer_.key("box");
-        printer_.begin_object();
-        printer_.key("min");
-        printer_.raw(plain_list(std::span(node.spline_box->min).first(n)));
-        printer_.key("max");
-        printer_.raw(plain_list(std::span(node.spline_box->max).first(n)));
-        printer_.end_object();
-      }
+      if (node.spline_box) box("box", *node.spline_box);
     }
     printer_.key("children");
     printer_.begin_array();
