@@ -112,7 +112,8 @@ FuzzyOutcome refine_fuzzy(const Case& c, const Tree& start, const Camera& check,
   // Surface samples come from the original's primitives (their triangles, by area).
   std::vector<double> area_cdf;
   std::vector<std::array<Vec3, 3>> triangles;
-  for (const TriMesh& mesh : c.truth->scene.primitives) {
+  for (const PrimitiveMesh& primitive : c.truth->scene.primitives) {
+    const TriangleMesh& mesh = primitive.mesh;
     for (const auto& t : mesh.triangles) {
       const Vec3 &a = mesh.vertices[static_cast<std::size_t>(t[0])],
                  &b = mesh.vertices[static_cast<std::size_t>(t[1])],

@@ -62,15 +62,7 @@ Timing time_ms(int runs, const std::vector<std::function<void()>>& variants) {
 }
 
 Camera view(const Scene& scene) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (const TriMesh& t : scene.primitives) {
-    for (const Vec3& v : t.vertices) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], v[static_cast<std::size_t>(k)]);
-        hi[k] = std::max(hi[k], v[static_cast<std::size_t>(k)]);
-      }
-    }
-  }
+  const auto [lo, hi] = scene.bounds();
   const Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
   const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   return Camera::orbit(centre, 30, 30, 3 * size, 512, 512, 30);

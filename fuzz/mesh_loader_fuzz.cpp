@@ -36,24 +36,25 @@ using fuzzycsg::fuzz::bug;
 // casts 7 rays from each of 16384 points).
 constexpr std::size_t kMaxTargetTriangles = 4096;
 
-void check_mesh(const fuzzycsg::MeshData& mesh) {
-  if (mesh.vertices.size() % 3 != 0 || mesh.triangles.size() % 3 != 0) {
-    bug(kTarget, "vertices or triangles are not triples");
-  }
+void check_mesh(const fuzzycsg::TriangleMesh& mesh) {
   if (mesh.triangles.empty()) bug(kTarget, "a mesh without triangles was read");
-  const std::size_t nv = mesh.vertices.size() / 3;
+  const std::size_t nv = mesh.vertices.size();
   std::vector<bool> used(nv, false);
-  for (const std::uint32_t t : mesh.triangles) {
-    if (t >= nv)
-      bug(kTarget,
-          "a triangle refers to vertex " + std::to_string(t) + " of " + std::to_string(nv));
-    used[t] = true;
+  for (const std::array<int, 3>& t : mesh.triangles) {
+    for (const int v : t) {
+      if (v < 0 || static_cast<std::size_t>(v) >= nv)
+        bug(kTarget,
+            "a triangle refers to vertex " + std::to_string(v) + " of " + std::to_string(nv));
+      used[static_cast<std::size_t>(v)] = true;
+    }
   }
   for (std::size_t v = 0; v < nv; ++v) {
     if (!used[v]) bug(kTarget, "vertex " + std::to_string(v) + " is used by no triangle");
   }
-  for (const double x : mesh.vertices) {
-    if (!std::isfinite(x)) bug(kTarget, "a vertex coordinate is not finite");
+  for (const std::array<double, 3>& p : mesh.vertices) {
+    for (const double x : p) {
+      if (!std::isfinite(x)) bug(kTarget, "a vertex coordinate is not finite");
+    }
   }
 }
 
@@ -84,7 +85,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return -1;  // not kept in the corpus
   }
 
-  MeshData mesh;
+  TriangleMesh mesh;
   try {
     mesh = read_mesh_file(path);
   } catch (const InputError& e) {
@@ -92,7 +93,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   check_mesh(mesh);
-  if (mesh.triangles.size() / 3 > kMaxTargetTriangles) return 0;
+  if (mesh.triangles.size() > kMaxTargetTriangles) return 0;
 
   TargetOptions options;
   options.threads = 1;

@@ -31,9 +31,10 @@ void check_scene(const fuzzycsg::diffcsg::Scene& scene, std::string_view text) {
     bug(kTarget, "tree_node does not name one node per primitive", text);
   }
   for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const fuzzycsg::diffcsg::TriMesh& m = scene.primitives[p];
+    const fuzzycsg::TriangleMesh& m = scene.primitives[p].mesh;
+    const std::vector<int>& smoothing = scene.primitives[p].smoothing;
     if (m.triangles.empty()) bug(kTarget, "primitive " + std::to_string(p) + " has no triangles");
-    if (!m.smoothing.empty() && m.smoothing.size() != m.triangles.size()) {
+    if (!smoothing.empty() && smoothing.size() != m.triangles.size()) {
       bug(kTarget, "primitive " + std::to_string(p) + ": smoothing groups do not match", text);
     }
     for (const auto& t : m.triangles) {

@@ -86,7 +86,7 @@ int run_mesh(MeshArgs a) {
     if (mesh.triangles.empty()) refuse_empty("mesh");
     write_mesh(mesh, a.out);
     print_stats(stats, fmt::format("{} vertices, {} triangles, volume {:.6g}", mesh.vertices.size(),
-                                   mesh.triangles.size(), mesh_volume(mesh)));
+                                   mesh.triangles.size(), signed_volume(mesh)));
     if (a.check) print_check(mesh, a.out);
   } else {
     Contours contours;

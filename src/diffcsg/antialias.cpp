@@ -15,7 +15,7 @@ namespace fuzzycsg::diffcsg {
 Topology opposite_vertices(const Scene& scene) {
   Topology out(scene.primitives.size());
   for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const TriMesh& m = scene.primitives[p];
+    const TriangleMesh& m = scene.primitives[p].mesh;
     std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> edges;  // -> (tri, k)
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       for (int k = 0; k < 3; ++k) {
@@ -110,7 +110,7 @@ void antialias(const Scene& scene, const Topology& topology, const Camera& camer
   // Every vertex's screen position, once.
   std::vector<std::vector<std::array<double, 2>>> screen(scene.primitives.size());
   for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    for (const Vec3& v : scene.primitives[p].vertices) {
+    for (const Vec3& v : scene.primitives[p].mesh.vertices) {
       const Projection pr = project(cf, v);
       screen[p].push_back({pr.sx, pr.sy});
     }
@@ -137,7 +137,7 @@ void antialias(const Scene& scene, const Topology& topology, const Camera& camer
           const std::size_t src = from0 ? p0 : p1;
           const int s = from0 ? 1 : -1;
           const int prim = frame.primitive[src], tri = frame.triangle[src];
-          const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
+          const TriangleMesh& m = scene.primitives[static_cast<std::size_t>(prim)].mesh;
           const auto& t = m.triangles[static_cast<std::size_t>(tri)];
           const double ox = (src % static_cast<std::size_t>(w)) + 0.5;
           const double oy = static_cast<double>(src / static_cast<std::size_t>(w)) + 0.5;
@@ -256,7 +256,7 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
       delta += g[c] * (colour.at(pr.p1)[c] - colour.at(pr.p0)[c]);
     }
     if (!(std::abs(pr.alpha) < 0.5)) continue;
-    const TriMesh& m = scene.primitives[static_cast<std::size_t>(pr.primitive)];
+    const TriangleMesh& m = scene.primitives[static_cast<std::size_t>(pr.primitive)].mesh;
     const auto& t = m.triangles[static_cast<std::size_t>(pr.triangle)];
     const std::size_t src = pr.s > 0 ? pr.p0 : pr.p1;
     const double ox = (src % static_cast<std::size_t>(w)) + 0.5;
@@ -309,8 +309,8 @@ void antialias_backward(const Scene& scene, const Camera& camera, const Image& c
       const int te = source.of_b ? x->triangle_b : x->triangle_a;
       const int pt = source.of_b ? x->primitive_a : x->primitive_b;  // the crossed triangle's
       const int tt = source.of_b ? x->triangle_a : x->triangle_b;
-      const TriMesh& me = scene.primitives[static_cast<std::size_t>(pe)];
-      const TriMesh& mt = scene.primitives[static_cast<std::size_t>(pt)];
+      const TriangleMesh& me = scene.primitives[static_cast<std::size_t>(pe)].mesh;
+      const TriangleMesh& mt = scene.primitives[static_cast<std::size_t>(pt)].mesh;
       const auto& tri_e = me.triangles[static_cast<std::size_t>(te)];
       const auto& tri_t = mt.triangles[static_cast<std::size_t>(tt)];
       const int v0 = tri_e[static_cast<std::size_t>(source.edge)];

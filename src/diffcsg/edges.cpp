@@ -126,7 +126,7 @@ std::vector<IntersectionEdge> intersection_edges(const Scene& scene) {
   };
   std::vector<Item> items;
   for (std::size_t pi = 0; pi < scene.primitives.size(); ++pi) {
-    const TriMesh& m = scene.primitives[pi];
+    const TriangleMesh& m = scene.primitives[pi].mesh;
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       Item it;
       it.primitive = static_cast<int>(pi);
@@ -157,8 +157,8 @@ std::vector<IntersectionEdge> intersection_edges(const Scene& scene) {
         continue;
       const Item& x = a.primitive < b.primitive ? a : b;
       const Item& y = a.primitive < b.primitive ? b : a;
-      const TriMesh& mx = scene.primitives[static_cast<std::size_t>(x.primitive)];
-      const TriMesh& my = scene.primitives[static_cast<std::size_t>(y.primitive)];
+      const TriangleMesh& mx = scene.primitives[static_cast<std::size_t>(x.primitive)].mesh;
+      const TriangleMesh& my = scene.primitives[static_cast<std::size_t>(y.primitive)].mesh;
       const auto& tx = mx.triangles[static_cast<std::size_t>(x.triangle)];
       const auto& ty = my.triangles[static_cast<std::size_t>(y.triangle)];
       IntersectionEdge e;

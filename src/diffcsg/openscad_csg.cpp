@@ -39,14 +39,15 @@ class SceneBuilder {
     }
     const scad::CsgPrimitive& p = st.primitive;
     const std::array<double, 16>& m = st.matrix;
-    TriMesh mesh;
+    PrimitiveMesh primitive;
+    TriangleMesh& mesh = primitive.mesh;
     if (p.kind == scad::CsgPrimitive::Kind::kCube) {
-      mesh = unit_box();
+      primitive = unit_box();
       for (Vec3& v : mesh.vertices) {
         for (std::size_t k = 0; k < 3; ++k) v[k] = (v[k] + (p.center ? 0 : 0.5)) * p.size[k];
       }
     } else if (p.kind == scad::CsgPrimitive::Kind::kSphere) {
-      mesh = openscad_sphere(p.fragments);
+      primitive = openscad_sphere(p.fragments);
       for (Vec3& v : mesh.vertices) {
         for (double& x : v) x *= p.r;
       }
@@ -71,7 +72,7 @@ class SceneBuilder {
       const auto vt = [&](int j) { return r2 == 0 ? t : t + j % fragments; };
       const auto add = [&](std::array<int, 3> tri, int group) {
         mesh.triangles.push_back(tri);
-        mesh.smoothing.push_back(group);
+        primitive.smoothing.push_back(group);
       };
       for (int j = 0; j < fragments; ++j) {
         if (r1 > 0) add({vb(j), vb(j + 1), vt(j + 1)}, 0);
@@ -90,7 +91,7 @@ class SceneBuilder {
             m[r * 4] * q[0] + m[r * 4 + 1] * q[1] + m[r * 4 + 2] * q[2] + m[r * 4 + 3];
       }
     }
-    const double volume = signed_volume6(mesh);
+    const double volume = signed_volume(mesh);
     if (!(std::abs(volume) > 0)) scad::fail_at(model_, st, "the primitive has no volume");
     if (volume < 0) {
       for (auto& tri : mesh.triangles) std::swap(tri[1], tri[2]);
@@ -98,7 +99,7 @@ class SceneBuilder {
     CsgNode leaf;
     leaf.kind = CsgNode::Kind::kPrimitive;
     leaf.primitive = static_cast<int>(scene_.primitives.size());
-    scene_.primitives.push_back(std::move(mesh));
+    scene_.primitives.push_back(std::move(primitive));
     scene_.tree_node.push_back(st.line);
     scene_.nodes.push_back(leaf);
     return static_cast<int>(scene_.nodes.size()) - 1;

@@ -14,19 +14,9 @@
 
 namespace fuzzycsg::diffcsg {
 
-double signed_volume6(const TriMesh& m) {
-  double v = 0;
-  for (const auto& t : m.triangles) {
-    const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
-    const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
-    const Vec3& c = m.vertices[static_cast<std::size_t>(t[2])];
-    v += dot(a, cross(b, c));
-  }
-  return v;
-}
-
-TriMesh unit_box() {
-  TriMesh m;
+PrimitiveMesh unit_box() {
+  PrimitiveMesh out;  // flat: no smoothing groups
+  TriangleMesh& m = out.mesh;
   for (int k = 0; k < 8; ++k) {
     m.vertices.push_back({(k & 1) ? 0.5 : -0.5, (k & 2) ? 0.5 : -0.5, (k & 4) ? 0.5 : -0.5});
   }
@@ -37,12 +27,13 @@ TriMesh unit_box() {
                  {2, 6, 7}, {2, 7, 3},   // y = +1/2
                  {0, 4, 6}, {0, 6, 2},   // x = -1/2
                  {1, 3, 7}, {1, 7, 5}};  // x = +1/2
-  return m;
+  return out;
 }
 
-TriMesh unit_sphere(int subdivisions) {
+PrimitiveMesh unit_sphere(int subdivisions) {
   const double g = (1 + std::sqrt(5.0)) / 2;
-  TriMesh m;
+  PrimitiveMesh out;
+  TriangleMesh& m = out.mesh;
   m.vertices = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
@@ -76,12 +67,13 @@ TriMesh unit_sphere(int subdivisions) {
     }
     m.triangles = std::move(next);
   }
-  m.smoothing.assign(m.triangles.size(), 0);
-  return m;
+  out.smoothing.assign(m.triangles.size(), 0);
+  return out;
 }
 
-TriMesh unit_cylinder(int segments) {
-  TriMesh m;
+PrimitiveMesh unit_cylinder(int segments) {
+  PrimitiveMesh out;
+  TriangleMesh& m = out.mesh;
   const int n = segments;
   for (int ring = 0; ring < 2; ++ring) {
     for (int k = 0; k < n; ++k) {
@@ -98,13 +90,14 @@ TriMesh unit_cylinder(int segments) {
     m.triangles.push_back({k, n + k1, n + k});
     m.triangles.push_back({bottom, k1, k});
     m.triangles.push_back({top, n + k, n + k1});
-    m.smoothing.insert(m.smoothing.end(), {0, 0, -1, -1});  // smooth sides, flat caps
+    out.smoothing.insert(out.smoothing.end(), {0, 0, -1, -1});  // smooth sides, flat caps
   }
-  return m;
+  return out;
 }
 
-TriMesh openscad_sphere(int fragments) {
-  TriMesh mesh;
+PrimitiveMesh openscad_sphere(int fragments) {
+  PrimitiveMesh out;
+  TriangleMesh& mesh = out.mesh;
   const int rings = (fragments + 1) / 2;
   for (int i = 0; i < rings; ++i) {
     const double phi = std::numbers::pi * (i + 0.5) / rings;
@@ -127,8 +120,8 @@ TriMesh openscad_sphere(int fragments) {
   for (int j = 1; j + 1 < fragments; ++j) {  // bottom cap
     mesh.triangles.push_back({at(rings - 1, 0), at(rings - 1, j + 1), at(rings - 1, j)});
   }
-  mesh.smoothing.assign(mesh.triangles.size(), 0);
-  return mesh;
+  out.smoothing.assign(mesh.triangles.size(), 0);
+  return out;
 }
 
 bool Scene::solid(const std::vector<std::uint8_t>& inside) const {
@@ -157,18 +150,17 @@ bool Scene::solid(const std::vector<std::uint8_t>& inside) const {
 
 std::size_t Scene::triangle_count() const {
   std::size_t n = 0;
-  for (const TriMesh& m : primitives) n += m.triangles.size();
+  for (const PrimitiveMesh& p : primitives) n += p.mesh.triangles.size();
   return n;
 }
 
 std::array<Vec3, 2> Scene::bounds() const {
   Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  for (const TriMesh& m : primitives) {
-    for (const Vec3& v : m.vertices) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], v[k]);
-        hi[k] = std::max(hi[k], v[k]);
-      }
+  for (const PrimitiveMesh& p : primitives) {
+    const auto [plo, phi] = bounding_box(p.mesh);
+    for (std::size_t k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], plo[k]);
+      hi[k] = std::max(hi[k], phi[k]);
     }
   }
   if (!(lo[0] <= hi[0])) throw InputError("the scene has no vertices");
@@ -179,14 +171,14 @@ namespace {
 
 // A unit mesh with, per vertex, how its local position follows the leaf's fields.
 struct LeafMesh {
-  TriMesh mesh;
+  PrimitiveMesh mesh;
   std::vector<std::vector<LocalTerm>> terms;  // per vertex
 };
 
 // Terms l = (u_x a, u_y b, u_z c) for the vertices of a unit mesh u.
-LeafMesh scaled(const TriMesh& unit, ParamRef a, ParamRef b, ParamRef c) {
+LeafMesh scaled(const PrimitiveMesh& unit, ParamRef a, ParamRef b, ParamRef c) {
   LeafMesh out{unit, {}};
-  for (const Vec3& u : unit.vertices) {
+  for (const Vec3& u : unit.mesh.vertices) {
     out.terms.push_back({{a, {u[0], 0, 0}}, {b, {0, u[1], 0}}, {c, {0, 0, u[2]}}});
   }
   return out;
@@ -196,7 +188,8 @@ LeafMesh scaled(const TriMesh& unit, ParamRef a, ParamRef b, ParamRef c) {
 // +h/2; a ring whose radius is an apex (`apex1`, `apex2`) is one vertex.
 LeafMesh cone_mesh(int segments, ParamRef r1, ParamRef r2, ParamRef h, bool apex1, bool apex2) {
   LeafMesh out;
-  TriMesh& m = out.mesh;
+  TriangleMesh& m = out.mesh.mesh;
+  std::vector<int>& smoothing = out.mesh.smoothing;
   const int n = segments;
   const auto ring = [&](ParamRef r, double z, bool apex) {
     const int base = static_cast<int>(m.vertices.size());
@@ -230,19 +223,19 @@ LeafMesh cone_mesh(int segments, ParamRef r1, ParamRef r2, ParamRef h, bool apex
   for (int k = 0; k < n; ++k) {
     if (!apex1) {
       m.triangles.push_back({vb(k), vb(k + 1), vt(k + 1)});
-      m.smoothing.push_back(0);
+      smoothing.push_back(0);
     }
     if (!apex2) {
       m.triangles.push_back({vb(k), vt(k + 1), vt(k)});
-      m.smoothing.push_back(0);
+      smoothing.push_back(0);
     }
     if (!apex1) {
       m.triangles.push_back({bc, vb(k + 1), vb(k)});
-      m.smoothing.push_back(-1);
+      smoothing.push_back(-1);
     }
     if (!apex2) {
       m.triangles.push_back({tc, vt(k), vt(k + 1)});
-      m.smoothing.push_back(-1);
+      smoothing.push_back(-1);
     }
   }
   return out;
@@ -282,7 +275,8 @@ LeafMesh extrude_mesh(const Tree& tree, const Node& n, const std::vector<Polygon
             poly[2 * static_cast<std::size_t>(r)] * poly[2 * static_cast<std::size_t>(q) + 1];
   }
   LeafMesh out;
-  TriMesh& m = out.mesh;
+  TriangleMesh& m = out.mesh.mesh;
+  std::vector<int>& smoothing = out.mesh.smoothing;
   for (const double z : {-0.5, 0.5}) {
     for (int k = 0; k < segments; ++k) {
       for (int sample = 0; sample < kBezierSamples; ++sample) {
@@ -333,12 +327,12 @@ LeafMesh extrude_mesh(const Tree& tree, const Node& n, const std::vector<Polygon
     const int r = (q + 1) % count;
     m.triangles.push_back({q, r, count + r});
     m.triangles.push_back({q, count + r, count + q});
-    m.smoothing.insert(m.smoothing.end(), 2, group[static_cast<std::size_t>(q)]);
+    smoothing.insert(smoothing.end(), 2, group[static_cast<std::size_t>(q)]);
   }
   for (const PolygonTriangle& t : caps) {
     m.triangles.push_back({count + t[0], count + t[1], count + t[2]});  // top, seen from above
     m.triangles.push_back({t[0], t[2], t[1]});                          // bottom
-    m.smoothing.insert(m.smoothing.end(), 2, -1);
+    smoothing.insert(smoothing.end(), 2, -1);
   }
   // The walls and caps above face out for a counter-clockwise profile (the caps' triangles
   // follow the polygon's orientation); a clockwise one is turned over.
@@ -386,7 +380,7 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
   const std::vector<std::string> paths = node_paths(tree);
   const auto value = [&](ParamRef r) { return tree.params[r].value; };
   Scene scene;
-  const TriMesh box = unit_box(), sphere = unit_sphere(options.sphere_subdivisions);
+  const PrimitiveMesh box = unit_box(), sphere = unit_sphere(options.sphere_subdivisions);
   const auto build = [&](const auto& self, int i) -> int {
     const Node& n = tree.node(i);
     const std::string& where = paths[static_cast<std::size_t>(i)];
@@ -442,7 +436,8 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
       Vec3 t{0, 0, 0};
       for (std::size_t k = 0; k < bind.translate.size() && k < 3; ++k)
         t[k] = value(bind.translate[k]);
-      TriMesh m = std::move(leaf.mesh);
+      PrimitiveMesh primitive = std::move(leaf.mesh);
+      TriangleMesh& m = primitive.mesh;
       const std::array<double, 9>& r = bind.rotation;
       const double s = bind.scale_value;
       bind.offsets.push_back(0);
@@ -461,7 +456,7 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
       }
       out.kind = CsgNode::Kind::kPrimitive;
       out.primitive = static_cast<int>(scene.primitives.size());
-      scene.primitives.push_back(std::move(m));
+      scene.primitives.push_back(std::move(primitive));
       scene.tree_node.push_back(i);
       scene.bindings.push_back(std::move(bind));
     } else {
@@ -490,7 +485,7 @@ Scene scene_from_tree(const Tree& input, const std::string& source,
   return scene;
 }
 
-Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
+Scene scene_from_mesh(TriangleMesh mesh, double crease_degrees) {
   // Smoothing groups: triangles joined across edges whose faces turn by less than the crease
   // angle, by flood fill.
   const std::size_t nt = mesh.triangles.size();
@@ -512,12 +507,12 @@ Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
     }
   }
   const double cos_crease = std::cos(crease_degrees * std::numbers::pi / 180);
-  mesh.smoothing.assign(nt, -2);
+  std::vector<int> smoothing(nt, -2);
   int groups = 0;
   std::vector<int> stack;
   for (std::size_t seed = 0; seed < nt; ++seed) {
-    if (mesh.smoothing[seed] != -2) continue;
-    mesh.smoothing[seed] = groups;
+    if (smoothing[seed] != -2) continue;
+    smoothing[seed] = groups;
     stack.assign(1, static_cast<int>(seed));
     while (!stack.empty()) {
       const int t = stack.back();
@@ -527,12 +522,12 @@ Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
         const int a = tri[static_cast<std::size_t>(k)],
                   b = tri[static_cast<std::size_t>((k + 1) % 3)];
         for (const int u : edges[{std::min(a, b), std::max(a, b)}]) {
-          if (mesh.smoothing[static_cast<std::size_t>(u)] != -2) continue;
+          if (smoothing[static_cast<std::size_t>(u)] != -2) continue;
           if (dot(normal[static_cast<std::size_t>(t)], normal[static_cast<std::size_t>(u)]) <
               cos_crease) {
             continue;
           }
-          mesh.smoothing[static_cast<std::size_t>(u)] = groups;
+          smoothing[static_cast<std::size_t>(u)] = groups;
           stack.push_back(u);
         }
       }
@@ -540,7 +535,7 @@ Scene scene_from_mesh(TriMesh mesh, double crease_degrees) {
     ++groups;
   }
   Scene scene;
-  scene.primitives.push_back(std::move(mesh));
+  scene.primitives.push_back({std::move(mesh), std::move(smoothing)});
   scene.tree_node.push_back(-1);
   scene.nodes.push_back({CsgNode::Kind::kPrimitive, 0, {}});
   scene.root = 0;

@@ -38,7 +38,7 @@ std::array<float, 3> primitive_colour(int p) {
 
 namespace {
 
-Vec3 face_cross(const TriMesh& m, std::size_t t) {
+Vec3 face_cross(const TriangleMesh& m, std::size_t t) {
   const auto& tri = m.triangles[t];
   const Vec3& a = m.vertices[static_cast<std::size_t>(tri[0])];
   return cross(sub(m.vertices[static_cast<std::size_t>(tri[1])], a),
@@ -142,12 +142,13 @@ CornerNormals corner_normals(const Scene& scene) {
   CornerNormals out;
   out.primitives.resize(scene.primitives.size());
   for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const TriMesh& m = scene.primitives[p];
+    const TriangleMesh& m = scene.primitives[p].mesh;
+    const std::vector<int>& smoothing = scene.primitives[p].smoothing;
     CornerNormals::Primitive& cp = out.primitives[p];
     cp.corner_slot.resize(m.triangles.size());
     std::map<std::pair<int, int>, int> slots;  // (vertex, group) -> slot
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const int group = m.smoothing.empty() ? -1 : m.smoothing[t];
+      const int group = smoothing.empty() ? -1 : smoothing[t];
       if (group < 0) {
         const int slot = static_cast<int>(cp.slot_triangles.size());
         cp.slot_triangles.push_back({static_cast<int>(t)});
@@ -208,7 +209,7 @@ void shade(const Scene& scene, const CornerNormals& normals, const Camera& camer
             for (std::size_t k = 0; k < 3; ++k) o[k] = c[k];
             continue;
           }
-          const TriMesh& m = scene.primitives[static_cast<std::size_t>(prim)];
+          const TriangleMesh& m = scene.primitives[static_cast<std::size_t>(prim)].mesh;
           const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
           const auto& tri = m.triangles[t];
           const int i = static_cast<int>(px % static_cast<std::size_t>(frame.width));
@@ -255,7 +256,7 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
     const double ng = dot(n, gn);
     const Vec3 gsum{(gn[0] - n[0] * ng) / len, (gn[1] - n[1] * ng) / len,
                     (gn[2] - n[2] * ng) / len};
-    const TriMesh& m = scene.primitives[p];
+    const TriangleMesh& m = scene.primitives[p].mesh;
     for (const int t : cp.slot_triangles[s]) {
       const auto& tri = m.triangles[static_cast<std::size_t>(t)];
       const Vec3& a = m.vertices[static_cast<std::size_t>(tri[0])];
@@ -287,7 +288,7 @@ void shade_backward(const Scene& scene, const CornerNormals& normals, const Came
       const float* g = grad.at(px);
       if (g[0] == 0 && g[1] == 0 && g[2] == 0) continue;
       const std::size_t p = static_cast<std::size_t>(prim);
-      const TriMesh& m = scene.primitives[p];
+      const TriangleMesh& m = scene.primitives[p].mesh;
       const std::size_t t = static_cast<std::size_t>(frame.triangle[px]);
       const auto& tri = m.triangles[t];
       const double flip = record.flip[px];

@@ -27,21 +27,13 @@ struct StbFree {
 }  // namespace
 
 Scene read_mesh_scene(const std::filesystem::path& path, double crease_degrees) {
-  const MeshData data = read_mesh_file(path);
-  TriMesh m;
-  for (std::size_t v = 0; v + 2 < data.vertices.size(); v += 3) {
-    m.vertices.push_back({data.vertices[v], data.vertices[v + 1], data.vertices[v + 2]});
-  }
-  for (std::size_t t = 0; t + 2 < data.triangles.size(); t += 3) {
-    m.triangles.push_back({static_cast<int>(data.triangles[t]),
-                           static_cast<int>(data.triangles[t + 1]),
-                           static_cast<int>(data.triangles[t + 2])});
-  }
-  const double volume = signed_volume6(m);
+  TriangleMesh m = read_mesh_file(path);
+  const double volume = signed_volume(m);
   double extent = 0;
   for (const Vec3& v : m.vertices)
     extent = std::max({extent, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
-  if (!(std::abs(volume) > 1e-12 * extent * extent * extent)) {
+  // Six times the volume against 1e-12 of the cube of the extent.
+  if (!(6 * std::abs(volume) > 1e-12 * extent * extent * extent)) {
     throw InputError(fmt::format("{}: the mesh encloses no volume", path.string()));
   }
   if (volume < 0) {

@@ -261,11 +261,11 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
   const std::size_t np = scene.primitives.size();
   std::vector<std::size_t> first_face(np + 1, 0);
   for (std::size_t p = 0; p < np; ++p) {
-    first_face[p + 1] = first_face[p] + scene.primitives[p].triangles.size();
+    first_face[p + 1] = first_face[p] + scene.primitives[p].mesh.triangles.size();
   }
   std::vector<Vec3> face_normal(first_face[np]), unit_normal(first_face[np]);
   for (std::size_t p = 0; p < np; ++p) {
-    const TriMesh& m = scene.primitives[p];
+    const TriangleMesh& m = scene.primitives[p].mesh;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.vertices.size()));
@@ -323,7 +323,8 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
   {
     const double kx = f.width / (2 * basis.half * basis.aspect), ky = f.height / (2 * basis.half);
     const double eye_norm = std::sqrt(dot(camera.eye, camera.eye));
-    for (const TriMesh& m : scene.primitives) {
+    for (const PrimitiveMesh& primitive : scene.primitives) {
+      const TriangleMesh& m = primitive.mesh;
       std::array<double, 4> r{1e300, 1e300, -1e300, -1e300};
       for (const Vec3& v : m.vertices) {
         const Vec3 d = sub(v, camera.eye);
@@ -409,11 +410,11 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
     std::vector<Projected>& projected = projected_buffer;
     std::vector<std::size_t> first_vertex(np + 1, 0);
     for (std::size_t p = 0; p < np; ++p) {
-      first_vertex[p + 1] = first_vertex[p] + scene.primitives[p].vertices.size();
+      first_vertex[p + 1] = first_vertex[p] + scene.primitives[p].mesh.vertices.size();
     }
     projected.resize(first_vertex[np]);
     for (std::size_t p = 0; p < np && !all_alone; ++p) {
-      const TriMesh& m = scene.primitives[p];
+      const TriangleMesh& m = scene.primitives[p].mesh;
       for (std::size_t v = 0; v < m.vertices.size(); ++v) {
         const Vec3 d = sub(m.vertices[v], camera.eye);
         const double zc = dot(d, basis.forward);
@@ -427,7 +428,7 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
       }
     }
     const auto mark_triangle = [&](std::size_t p, std::size_t t) {
-      const TriMesh& m = scene.primitives[p];
+      const TriangleMesh& m = scene.primitives[p].mesh;
       const auto& tri = m.triangles[t];
       const Projected* q[3];
       for (std::size_t k = 0; k < 3; ++k) {

@@ -12,11 +12,13 @@ namespace fuzzycsg {
 
 namespace {
 
+using Position = std::array<double, 3>;
+
 struct PositionHash {
-  std::size_t operator()(const std::array<float, 3>& p) const {
+  std::size_t operator()(const Position& p) const {
     std::uint64_t h = 0xcbf29ce484222325ull;
-    for (const float x : p) {
-      std::uint32_t bits = 0;
+    for (const double x : p) {
+      std::uint64_t bits = 0;
       std::memcpy(&bits, &x, sizeof bits);
       h = (h ^ bits) * 0x100000001b3ull;
     }
@@ -24,28 +26,29 @@ struct PositionHash {
   }
 };
 
-// One id per distinct position (compared with ==), per vertex of the mesh.
+// One id per distinct position (compared with ==), per vertex of the mesh: ids in the order of
+// the vertices, whatever the hash.
 std::vector<int> weld(const TriangleMesh& mesh) {
-  std::unordered_map<std::array<float, 3>, int, PositionHash> ids;
+  std::unordered_map<Position, int, PositionHash> ids;
   ids.reserve(mesh.vertices.size());
   std::vector<int> id(mesh.vertices.size());
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    std::array<float, 3> p = mesh.vertices[v];
-    for (float& x : p) x += 0.0f;  // -0 and +0 are one position (and hash alike)
+    Position p = mesh.vertices[v];
+    for (double& x : p) x += 0.0;  // -0 and +0 are one position (and hash alike)
     id[v] = ids.try_emplace(p, static_cast<int>(ids.size())).first->second;
   }
   return id;
 }
 
-// Zero area: the cross product of two sides vanishes, computed in double from the float
-// coordinates (the differences are exact for coordinates of like magnitude, and the products
-// nearly so): corners on a line, or within double rounding of one.
-bool zero_area(const std::array<float, 3>& a, const std::array<float, 3>& b,
-               const std::array<float, 3>& c) {
+// Zero area: the cross product of two sides vanishes, computed in double (for float
+// coordinates, as extract_mesh() and the files give, the differences are exact for coordinates
+// of like magnitude, and the products nearly so): corners on a line, or within double rounding
+// of one.
+bool zero_area(const Position& a, const Position& b, const Position& c) {
   std::array<double, 3> u{}, w{};
   for (int k = 0; k < 3; ++k) {
-    u[k] = static_cast<double>(b[k]) - a[k];
-    w[k] = static_cast<double>(c[k]) - a[k];
+    u[k] = b[k] - a[k];
+    w[k] = c[k] - a[k];
   }
   return u[1] * w[2] - u[2] * w[1] == 0.0 && u[2] * w[0] - u[0] * w[2] == 0.0 &&
          u[0] * w[1] - u[1] * w[0] == 0.0;

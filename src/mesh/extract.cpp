@@ -530,11 +530,11 @@ Piece<2> contour_square_brick(const Grid& g, const CellBox& box, const float* va
 }
 
 // Runs `contour` on every active brick, in batches (memory stays bounded), and merges the
-// pieces: vertices with the same key become one.
-template <int kDim, class Contour>
+// pieces: vertices with the same key become one. The pieces' float positions are stored in
+// `vertices` as they are (float for contours, double for meshes: exact either way).
+template <int kDim, class Vertex, class Contour>
 void extract(Extractor& ex, const MeshOptions& o, MeshStats& stats, Contour contour,
-             std::vector<std::array<float, kDim>>& vertices,
-             std::vector<std::array<int, kDim>>& elements) {
+             std::vector<Vertex>& vertices, std::vector<std::array<int, kDim>>& elements) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<CellBox> bricks = ex.active_bricks(stats);
   stats.bricks = bricks.size();
@@ -557,7 +557,11 @@ void extract(Extractor& ex, const MeshOptions& o, MeshStats& stats, Contour cont
     std::vector<int> ids(piece.keys.size());
     for (std::size_t v = 0; v < piece.keys.size(); ++v) {
       auto [it, fresh] = global.try_emplace(piece.keys[v], static_cast<int>(vertices.size()));
-      if (fresh) vertices.push_back(piece.positions[v]);
+      if (fresh) {
+        Vertex p{};
+        for (int c = 0; c < kDim; ++c) p[c] = piece.positions[v][c];
+        vertices.push_back(p);
+      }
       ids[v] = it->second;
     }
     for (const auto& e : piece.elements) {
@@ -619,23 +623,6 @@ Contours extract_contours(const Tree& tree, std::span<const double> params,
     }
     return c;
   });
-}
-
-double mesh_volume(const TriangleMesh& mesh) {
-  double v = 0.0;
-  for (const auto& t : mesh.triangles) {
-    const auto& a = mesh.vertices[static_cast<std::size_t>(t[0])];
-    const auto& b = mesh.vertices[static_cast<std::size_t>(t[1])];
-    const auto& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    v += (static_cast<double>(a[0]) *
-              (static_cast<double>(b[1]) * c[2] - static_cast<double>(b[2]) * c[1]) -
-          static_cast<double>(a[1]) *
-              (static_cast<double>(b[0]) * c[2] - static_cast<double>(b[2]) * c[0]) +
-          static_cast<double>(a[2]) *
-              (static_cast<double>(b[0]) * c[1] - static_cast<double>(b[1]) * c[0])) /
-         6.0;
-  }
-  return v;
 }
 
 std::size_t open_or_misoriented_edges(const TriangleMesh& mesh) {

@@ -26,8 +26,9 @@ std::string lowercase_extension(const std::filesystem::path& path) {
 }
 
 // One mesh of `faces` index lists (3 for triangles, 2 for line segments) in a scene assimp can
-// export. The scene owns (and its destructor frees) everything allocated here.
-std::unique_ptr<aiScene> make_scene(std::span<const std::array<float, 3>> vertices,
+// export, its coordinates in float. The scene owns (and its destructor frees) everything
+// allocated here.
+std::unique_ptr<aiScene> make_scene(std::span<const std::array<double, 3>> vertices,
                                     std::span<const int> indices, int per_face) {
   auto scene = std::make_unique<aiScene>();
   scene->mRootNode = new aiNode();
@@ -43,7 +44,9 @@ std::unique_ptr<aiScene> make_scene(std::span<const std::array<float, 3>> vertic
   mesh->mNumVertices = static_cast<unsigned int>(vertices.size());
   mesh->mVertices = new aiVector3D[vertices.size()];
   for (std::size_t v = 0; v < vertices.size(); ++v) {
-    mesh->mVertices[v] = aiVector3D(vertices[v][0], vertices[v][1], vertices[v][2]);
+    mesh->mVertices[v] =
+        aiVector3D(static_cast<float>(vertices[v][0]), static_cast<float>(vertices[v][1]),
+                   static_cast<float>(vertices[v][2]));
   }
   const std::size_t faces = indices.size() / static_cast<std::size_t>(per_face);
   mesh->mNumFaces = static_cast<unsigned int>(faces);
@@ -127,12 +130,12 @@ TriangleMesh read_triangle_mesh(const std::filesystem::path& path) {
 void write_contours(const Contours& contours, const Tree& tree, const std::filesystem::path& path) {
   const std::string ext = lowercase_extension(path);
   if (ext == ".obj") {
-    std::vector<std::array<float, 3>> vertices;
+    std::vector<std::array<double, 3>> vertices;
     std::vector<int> segments;
     for (const auto& loop : contours.loops) {
       const int first = static_cast<int>(vertices.size());
       const int n = static_cast<int>(loop.size());
-      for (const auto& p : loop) vertices.push_back({p[0], p[1], 0.0f});
+      for (const auto& p : loop) vertices.push_back({p[0], p[1], 0.0});
       for (int i = 0; i < n; ++i) {
         segments.push_back(first + i);
         segments.push_back(first + (i + 1) % n);

@@ -48,7 +48,7 @@ class MeshPrimitive final : public OpenCSG::Primitive {
 
 // 1 for a convex mesh (every vertex behind or on every face's plane); otherwise a bound on the
 // front faces a ray can cross (its triangle count, at most OpenCSG's 255 stencil layers).
-int mesh_convexity(const diffcsg::TriMesh& m) {
+int mesh_convexity(const TriangleMesh& m) {
   double size = 0;
   for (const Vec3& v : m.vertices)
     size = std::max({size, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
@@ -182,7 +182,8 @@ void Renderer::set_scene(const diffcsg::Scene& scene) {
   s.products = diffcsg::sum_of_products(scene);
   s.release_meshes();
   s.points.clear();
-  for (const diffcsg::TriMesh& m : scene.primitives) {
+  for (const diffcsg::PrimitiveMesh& primitive : scene.primitives) {
+    const TriangleMesh& m = primitive.mesh;
     std::vector<float> data;
     data.reserve(m.triangles.size() * 9);
     for (const auto& t : m.triangles) {

@@ -63,7 +63,7 @@ class RayScene {
       throw Error("render: Embree buffer allocation failed");
     }
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-      for (int c = 0; c < 3; ++c) vb[3 * v + c] = mesh.vertices[v][c];
+      for (int c = 0; c < 3; ++c) vb[3 * v + c] = static_cast<float>(mesh.vertices[v][c]);
     }
     normals_.assign(mesh.vertices.size(), Vec{0, 0, 0});
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -160,15 +160,7 @@ void check_camera(const Camera& c, const Tree& tree, std::span<const double> par
 
 Camera framing_camera(const TriangleMesh& mesh, double azimuth_deg, double elevation_deg,
                       const std::array<double, 3>& up, double aspect, double fov_deg) {
-  Vec lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-         std::numeric_limits<double>::infinity()};
-  Vec hi = scale(lo, -1.0);
-  for (const auto& v : mesh.vertices) {
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], static_cast<double>(v[c]));
-      hi[c] = std::max(hi[c], static_cast<double>(v[c]));
-    }
-  }
+  const auto [lo, hi] = bounding_box(mesh);
   const Vec centre = scale(add(lo, hi), 0.5);
   const double radius = std::max(1e-6, 0.5 * norm(sub(hi, lo)));
   // A frame about `up`: e1, e2 horizontal.

@@ -24,11 +24,8 @@ namespace fuzzycsg::target_detail {
 
 namespace {
 
-// A mesh as read: all meshes of the scene in world coordinates, one vertex and index list.
-struct TriangleMesh {
-  std::vector<double> vertices;          // 3 per vertex
-  std::vector<std::uint32_t> triangles;  // 3 per triangle
-};
+// The most vertices a file may have: TriangleMesh's indices are int.
+constexpr std::size_t kMaxVertices = std::numeric_limits<int>::max();
 
 // Row-major 3x4 affine transform.
 using Affine = std::array<double, 12>;
@@ -150,6 +147,7 @@ void check_finite(const aiScene& scene, const std::string& name) {
   }
 }
 
+// A mesh as read: all meshes of the scene in world coordinates, one vertex and index list.
 TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& name) {
   const std::string bytes = read_file_bytes(path, name);
   const std::string hint = lowercase_extension(path).substr(1);
@@ -187,29 +185,35 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
     for (unsigned k = 0; k < node->mNumMeshes; ++k) {
       if (node->mMeshes[k] >= scene->mNumMeshes) continue;
       const aiMesh* m = scene->mMeshes[node->mMeshes[k]];
-      const std::size_t base = mesh.vertices.size() / 3;
+      const std::size_t base = mesh.vertices.size();
+      if (m->mNumVertices > kMaxVertices - base) {
+        fail(name, fmt::format("too many vertices (more than {}, the most a mesh's int indices "
+                               "can count)",
+                               kMaxVertices));
+      }
       // Checked here, not trusted: assimp does not validate indices without
       // aiProcess_ValidateDataStructure.
       for (unsigned f = 0; f < m->mNumFaces; ++f) {
         const aiFace& face = m->mFaces[f];
         if (face.mNumIndices != 3) continue;  // points and lines
+        std::array<int, 3> t{};
         for (int c = 0; c < 3; ++c) {
           if (face.mIndices[c] >= m->mNumVertices) {
             fail(name, fmt::format("face {} refers to vertex {}, but the mesh has {} vertices", f,
                                    face.mIndices[c], m->mNumVertices));
           }
-          mesh.triangles.push_back(static_cast<std::uint32_t>(base + face.mIndices[c]));
+          t[static_cast<std::size_t>(c)] = static_cast<int>(base + face.mIndices[c]);
         }
+        mesh.triangles.push_back(t);
       }
       for (unsigned v = 0; v < m->mNumVertices; ++v) {
         const aiVector3D& p = m->mVertices[v];
+        std::array<double, 3> q{};
         for (int i = 0; i < 3; ++i) {
-          mesh.vertices.push_back(transform[i * 4] * p.x + transform[i * 4 + 1] * p.y +
-                                  transform[i * 4 + 2] * p.z + transform[i * 4 + 3]);
+          q[static_cast<std::size_t>(i)] = transform[i * 4] * p.x + transform[i * 4 + 1] * p.y +
+                                           transform[i * 4 + 2] * p.z + transform[i * 4 + 3];
         }
-      }
-      if (mesh.vertices.size() / 3 > std::numeric_limits<std::uint32_t>::max()) {
-        fail(name, "too many vertices");
+        mesh.vertices.push_back(q);
       }
     }
     for (unsigned c = 0; c < node->mNumChildren; ++c) {
@@ -223,19 +227,21 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
 
 // Keeps the vertices that triangles use (renumbered) and checks that they are finite.
 void compact(TriangleMesh& mesh, const std::string& name) {
-  constexpr auto kUnused = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> index(mesh.vertices.size() / 3, kUnused);
-  std::vector<double> used;
-  for (std::uint32_t& t : mesh.triangles) {
-    if (index[t] == kUnused) {
-      const double* p = &mesh.vertices[std::size_t{t} * 3];
-      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-        fail(name, "a vertex has a coordinate that is not a finite number");
+  std::vector<int> index(mesh.vertices.size(), -1);  // -1: not used (yet)
+  std::vector<std::array<double, 3>> used;
+  for (std::array<int, 3>& t : mesh.triangles) {
+    for (int& corner : t) {
+      int& to = index[static_cast<std::size_t>(corner)];
+      if (to < 0) {
+        const std::array<double, 3>& p = mesh.vertices[static_cast<std::size_t>(corner)];
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+          fail(name, "a vertex has a coordinate that is not a finite number");
+        }
+        to = static_cast<int>(used.size());
+        used.push_back(p);
       }
-      index[t] = static_cast<std::uint32_t>(used.size() / 3);
-      used.insert(used.end(), p, p + 3);
+      corner = to;
     }
-    t = index[t];
   }
   mesh.vertices = std::move(used);
 }
@@ -244,15 +250,7 @@ void compact(TriangleMesh& mesh, const std::string& name) {
 // similarity returned, up to rounding: x -> scale x - scale centre): the
 // normalisation of the reference release (Liu et al. 2024, utils/normalize_to_unit_box.py).
 Similarity normalise(TriangleMesh& mesh, double padding, const std::string& name) {
-  std::array<double, 3> lo, hi;
-  lo.fill(std::numeric_limits<double>::infinity());
-  hi.fill(-std::numeric_limits<double>::infinity());
-  for (std::size_t v = 0; v < mesh.vertices.size(); v += 3) {
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min(lo[i], mesh.vertices[v + i]);
-      hi[i] = std::max(hi[i], mesh.vertices[v + i]);
-    }
-  }
+  const auto [lo, hi] = bounding_box(mesh);
   double extent = 0.0;
   std::array<double, 3> centre;
   for (int i = 0; i < 3; ++i) {
@@ -262,10 +260,8 @@ Similarity normalise(TriangleMesh& mesh, double padding, const std::string& name
   }
   if (!(extent > 0.0) || !std::isfinite(extent)) fail(name, "mesh encloses no volume");
   const double scale = (1.0 - padding) / extent;
-  for (std::size_t v = 0; v < mesh.vertices.size(); v += 3) {
-    for (int i = 0; i < 3; ++i) {
-      mesh.vertices[v + i] = (mesh.vertices[v + i] - centre[i]) * scale;
-    }
+  for (std::array<double, 3>& v : mesh.vertices) {
+    for (std::size_t i = 0; i < 3; ++i) v[i] = (v[i] - centre[i]) * scale;
   }
   return {{-centre[0] * scale, -centre[1] * scale, -centre[2] * scale}, scale};
 }
@@ -328,14 +324,21 @@ struct SceneDeleter {
 
 class MeshTarget final : public Target {
  public:
-  MeshTarget(std::string file, TriangleMesh mesh, double padding, const Similarity& normalisation,
-             int threads)
+  MeshTarget(std::string file, const TriangleMesh& mesh, double padding,
+             const Similarity& normalisation, int threads)
       : file_(std::move(file)),
         normalisation_(normalisation),
-        triangles_(std::move(mesh.triangles)),
         directions_(ray_directions()),
         arena_(threads) {
-    vertices_.assign(mesh.vertices.begin(), mesh.vertices.end());
+    // Embree's buffers: float coordinates, unsigned indices.
+    vertices_.reserve(mesh.vertices.size() * 3);
+    for (const std::array<double, 3>& v : mesh.vertices) {
+      for (const double x : v) vertices_.push_back(static_cast<float>(x));
+    }
+    triangles_.reserve(mesh.triangles.size() * 3);
+    for (const std::array<int, 3>& t : mesh.triangles) {
+      for (const int corner : t) triangles_.push_back(static_cast<std::uint32_t>(corner));
+    }
     lo_.fill(std::numeric_limits<float>::infinity());
     hi_.fill(-std::numeric_limits<float>::infinity());
     for (std::size_t v = 0; v < vertices_.size(); v += 3) {
@@ -344,15 +347,16 @@ class MeshTarget final : public Target {
         hi_[i] = std::max(hi_[i], vertices_[v + i]);
       }
     }
-    // Face normals, areas and the signed volume (divergence theorem), in double.
-    const std::size_t nt = triangles_.size() / 3;
+    // Face normals and areas, in double.
+    const std::size_t nt = mesh.triangles.size();
     normals_.resize(nt * 3);
     cumulative_area_.resize(nt);
-    double area = 0.0, volume = 0.0;
+    double area = 0.0;
     for (std::size_t t = 0; t < nt; ++t) {
-      const double* a = &mesh.vertices[std::size_t{triangles_[t * 3]} * 3];
-      const double* b = &mesh.vertices[std::size_t{triangles_[t * 3 + 1]} * 3];
-      const double* c = &mesh.vertices[std::size_t{triangles_[t * 3 + 2]} * 3];
+      const std::array<int, 3>& tri = mesh.triangles[t];
+      const std::array<double, 3>& a = mesh.vertices[static_cast<std::size_t>(tri[0])];
+      const std::array<double, 3>& b = mesh.vertices[static_cast<std::size_t>(tri[1])];
+      const std::array<double, 3>& c = mesh.vertices[static_cast<std::size_t>(tri[2])];
       const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
       const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
       const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
@@ -363,10 +367,8 @@ class MeshTarget final : public Target {
       }
       area += len / 2;
       cumulative_area_[t] = area;
-      volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-                 a[2] * (b[0] * c[1] - b[1] * c[0])) /
-                6.0;
     }
+    const double volume = signed_volume(mesh);
     // Relative to the cube of side 2 (1 - padding) that the mesh now spans along one axis.
     const double cube = std::pow(2.0 * (1.0 - padding), 3);
     if (!(std::abs(volume) > 1e-6 * cube)) fail(file_, "mesh encloses no volume");
@@ -548,7 +550,7 @@ std::unique_ptr<Target> load_mesh(const std::filesystem::path& path, const std::
   TriangleMesh mesh = read_mesh(path, name);
   compact(mesh, name);
   const Similarity normalisation = normalise(mesh, options.padding, name);
-  return std::make_unique<MeshTarget>(name, std::move(mesh), options.padding, normalisation,
+  return std::make_unique<MeshTarget>(name, mesh, options.padding, normalisation,
                                       thread_count(options.threads));
 }
 
@@ -556,11 +558,11 @@ std::unique_ptr<Target> load_mesh(const std::filesystem::path& path, const std::
 
 namespace fuzzycsg {
 
-MeshData read_mesh_file(const std::filesystem::path& path) {
+TriangleMesh read_mesh_file(const std::filesystem::path& path) {
   const std::string name = path.string();
-  target_detail::TriangleMesh mesh = target_detail::read_mesh(path, name);
+  TriangleMesh mesh = target_detail::read_mesh(path, name);
   target_detail::compact(mesh, name);
-  return {std::move(mesh.vertices), std::move(mesh.triangles)};
+  return mesh;
 }
 
 }  // namespace fuzzycsg

@@ -106,12 +106,12 @@ TEST(DiffcsgAntialias, VertexGradientsMatchCentralDifferences) {
     int compared = 0, agreed = 0;
     double largest = 0;
     for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-      for (std::size_t v = 0; v < scene.primitives[p].vertices.size(); ++v) {
+      for (std::size_t v = 0; v < scene.primitives[p].mesh.vertices.size(); ++v) {
         for (int k = 0; k < 3; ++k) {
           const double eps = 1e-5;
           Scene a = scene, b = scene;
-          a.primitives[p].vertices[v][static_cast<std::size_t>(k)] += eps;
-          b.primitives[p].vertices[v][static_cast<std::size_t>(k)] -= eps;
+          a.primitives[p].mesh.vertices[v][static_cast<std::size_t>(k)] += eps;
+          b.primitives[p].mesh.vertices[v][static_cast<std::size_t>(k)] -= eps;
           const double fd = (loss(a, cam, weights) - loss(b, cam, weights)) / (2 * eps);
           const double an = grad[p][v][static_cast<std::size_t>(k)];
           largest = std::max(largest, std::abs(fd));
@@ -223,11 +223,11 @@ TEST(DiffcsgIntersectionAa, VertexGradientsMatchCentralDifferences) {
     };
     int compared = 0, agreed = 0;
     for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-      for (std::size_t v = 0; v < scene.primitives[p].vertices.size(); ++v) {
+      for (std::size_t v = 0; v < scene.primitives[p].mesh.vertices.size(); ++v) {
         for (int k = 0; k < 3; ++k) {
           Scene a = scene, b = scene;
-          a.primitives[p].vertices[v][static_cast<std::size_t>(k)] += 1e-5;
-          b.primitives[p].vertices[v][static_cast<std::size_t>(k)] -= 1e-5;
+          a.primitives[p].mesh.vertices[v][static_cast<std::size_t>(k)] += 1e-5;
+          b.primitives[p].mesh.vertices[v][static_cast<std::size_t>(k)] -= 1e-5;
           const double fd = (loss_of(a) - loss_of(b)) / 2e-5;
           const double an = grad[p][v][static_cast<std::size_t>(k)];
           if (std::abs(fd) < 1e-9 && std::abs(an) < 1e-9) continue;

@@ -27,7 +27,7 @@ Scene read_off(const std::filesystem::path& path) {
   in >> magic;
   std::size_t nv = 0, nf = 0, ne = 0;
   in >> nv >> nf >> ne;
-  TriMesh m;
+  TriangleMesh m;
   for (std::size_t v = 0; v < nv; ++v) {
     Vec3 p;
     in >> p[0] >> p[1] >> p[2];
@@ -43,12 +43,12 @@ Scene read_off(const std::filesystem::path& path) {
           {idx[0], idx[static_cast<std::size_t>(k)], idx[static_cast<std::size_t>(k + 1)]});
     }
   }
-  const double volume = signed_volume6(m);
+  const double volume = signed_volume(m);
   if (volume < 0) {
     for (auto& t : m.triangles) std::swap(t[1], t[2]);
   }
   Scene s;
-  s.primitives.push_back(std::move(m));
+  s.primitives.push_back({std::move(m), {}});
   s.tree_node.push_back(0);
   s.nodes.push_back({CsgNode::Kind::kPrimitive, 0, {}});
   s.root = 0;
@@ -65,7 +65,8 @@ TEST(DiffcsgOpenscad, TheExamplesMatchOpenscadsOwnMeshes) {
     SCOPED_TRACE(c.name);
     const Scene model = read_openscad_csg(kScad / (std::string(c.name) + ".openscad.csg"));
     EXPECT_EQ(model.primitives.size(), c.primitives);
-    for (const TriMesh& m : model.primitives) {
+    for (const PrimitiveMesh& primitive : model.primitives) {
+      const TriangleMesh& m = primitive.mesh;
       // Convex primitives: every face's normal points away from the primitive's centre.
       Vec3 centre{0, 0, 0};
       for (const Vec3& v : m.vertices) {
@@ -246,8 +247,8 @@ TEST(DiffcsgOpenscad, ModelsReadAsTreesDrawTheSameAsTheirMeshes) {
     ASSERT_EQ(tree.primitives.size(), direct.primitives.size());
     // Every sphere and cylinder keeps OpenSCAD's fragments: the same vertex count on rings.
     for (std::size_t p = 0; p < tree.primitives.size(); ++p) {
-      EXPECT_NEAR(static_cast<double>(tree.primitives[p].vertices.size()),
-                  static_cast<double>(direct.primitives[p].vertices.size()), 2.0);
+      EXPECT_NEAR(static_cast<double>(tree.primitives[p].mesh.vertices.size()),
+                  static_cast<double>(direct.primitives[p].mesh.vertices.size()), 2.0);
     }
     for (const double azimuth : {30.0, 200.0}) expect_same_image(direct, tree, azimuth, 30);
   }

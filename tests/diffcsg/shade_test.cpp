@@ -202,10 +202,10 @@ TEST(DiffcsgShade, VertexTangentsMatchDifferencesOfTheScene) {
     b.params.at(k).value -= 1e-6;
     const Scene sa = scene_from_tree(a, "a"), sb = scene_from_tree(b, "b");
     for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-      for (std::size_t v = 0; v < scene.primitives[p].vertices.size(); ++v) {
+      for (std::size_t v = 0; v < scene.primitives[p].mesh.vertices.size(); ++v) {
         for (std::size_t c = 0; c < 3; ++c) {
           const double fd =
-              (sa.primitives[p].vertices[v][c] - sb.primitives[p].vertices[v][c]) / 2e-6;
+              (sa.primitives[p].mesh.vertices[v][c] - sb.primitives[p].mesh.vertices[v][c]) / 2e-6;
           ASSERT_NEAR(tangent[p][v][c], fd, 1e-6) << tree.params.at(k).name;
         }
       }

@@ -112,7 +112,7 @@ TEST(DiffcsgTargets, ImagesAndViewsRoundTripThroughPng) {
 }
 
 // The world triangles of a one-primitive scene as an OFF file.
-std::string off_of(const TriMesh& m) {
+std::string off_of(const TriangleMesh& m) {
   std::string s = "OFF\n" + std::to_string(m.vertices.size()) + " " +
                   std::to_string(m.triangles.size()) + " 0\n";
   char buf[128];
@@ -132,7 +132,7 @@ TEST(DiffcsgTargets, AMeshFileDrawsAsTheModelItCameFrom) {
   const Tree tree =
       tree_of(R"({"type": "cylinder", "radius": 0.5, "height": 1.2, "rotate": [30, 10, 0]})");
   const Scene model = scene_from_tree(tree, "t");
-  write(dir / "c.off", off_of(model.primitives[0]));
+  write(dir / "c.off", off_of(model.primitives[0].mesh));
   const Scene mesh = read_mesh_scene(dir / "c.off");
   ASSERT_EQ(mesh.primitives.size(), 1u);
   // The crease angle keeps the caps flat and the side smooth, as the model's groups do.
@@ -253,7 +253,7 @@ TEST(DiffcsgTargets, RandomViewsAndAMeshTargetRecoverABox) {
   const Tree goal = tree_of(buf);
   std::snprintf(buf, sizeof buf, box.c_str(), 1.0, 0.0);
   const Tree start = tree_of(buf);
-  write(dir / "goal.off", off_of(scene_from_tree(goal, "goal").primitives[0]));
+  write(dir / "goal.off", off_of(scene_from_tree(goal, "goal").primitives[0].mesh));
   auto ps = std::make_shared<PreparedScene>(prepare_scene(read_mesh_scene(dir / "goal.off")));
   RefineTarget t;
   t.cameras = orbit_views({0, 0, 0}, 4, 1, 30, 64, 64, 30);

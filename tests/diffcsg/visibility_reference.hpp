@@ -85,7 +85,7 @@ inline Frame reference_visibility(const Scene& scene, const Camera& camera, int 
   rtcSetSceneFlags(rtc.get(), RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
   rtcSetSceneBuildQuality(rtc.get(), RTC_BUILD_QUALITY_HIGH);
   for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const TriMesh& m = scene.primitives[p];
+    const TriangleMesh& m = scene.primitives[p].mesh;
     RTCGeometry g = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.vertices.size()));
@@ -169,7 +169,7 @@ inline Frame reference_visibility(const Scene& scene, const Camera& camera, int 
               // crossings (a camera inside a primitive is handled); a point is inside where its
               // winding number is positive.
               for (Hit& h : hits) {
-                const TriMesh& m = scene.primitives[h.geometry];
+                const TriangleMesh& m = scene.primitives[h.geometry].mesh;
                 const auto& tri = m.triangles[h.triangle];
                 const Vec3 n = cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
                                          m.vertices[static_cast<std::size_t>(tri[0])]),
@@ -229,7 +229,7 @@ inline Frame reference_visibility(const Scene& scene, const Camera& camera, int 
                   if (shown == e) shown = k;
                   const Hit& h = hits[crossings[shown].hit];
                   const std::size_t px = static_cast<std::size_t>(j) * f.width + i;
-                  const TriMesh& m = scene.primitives[h.geometry];
+                  const TriangleMesh& m = scene.primitives[h.geometry].mesh;
                   const auto& tri = m.triangles[h.triangle];
                   Vec3 n = normalised(cross(sub(m.vertices[static_cast<std::size_t>(tri[1])],
                                                 m.vertices[static_cast<std::size_t>(tri[0])]),

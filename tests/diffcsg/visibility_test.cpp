@@ -71,7 +71,9 @@ std::vector<double> march(const Tree& tree, const Camera& cam, double h, double 
 }
 
 TEST(DiffcsgVisibility, UnitMeshesAreClosedWithOutwardNormals) {
-  for (const TriMesh& m : {unit_box(), unit_sphere(0), unit_sphere(2), unit_cylinder(16)}) {
+  for (const PrimitiveMesh& unit :
+       {unit_box(), unit_sphere(0), unit_sphere(2), unit_cylinder(16)}) {
+    const TriangleMesh& m = unit.mesh;
     for (const auto& t : m.triangles) {
       const Vec3& a = m.vertices[static_cast<std::size_t>(t[0])];
       const Vec3& b = m.vertices[static_cast<std::size_t>(t[1])];
@@ -83,10 +85,10 @@ TEST(DiffcsgVisibility, UnitMeshesAreClosedWithOutwardNormals) {
           n[0] * (a[0] + b[0] + c[0]) + n[1] * (a[1] + b[1] + c[1]) + n[2] * (a[2] + b[2] + c[2]),
           0);
     }
-    EXPECT_GT(signed_volume6(m), 0);
+    EXPECT_GT(signed_volume(m), 0);
   }
-  EXPECT_EQ(unit_sphere(2).triangles.size(), 320u);
-  EXPECT_EQ(unit_cylinder(16).triangles.size(), 64u);
+  EXPECT_EQ(unit_sphere(2).mesh.triangles.size(), 320u);
+  EXPECT_EQ(unit_cylinder(16).mesh.triangles.size(), 64u);
 }
 
 TEST(DiffcsgVisibility, ExtrudesAndConesAreClosedWithTheirVolumes) {
@@ -103,7 +105,8 @@ TEST(DiffcsgVisibility, ExtrudesAndConesAreClosedWithTheirVolumes) {
         "profile": )" +
         profile + R"(, "height": 0.5}})");
     const Scene scene = scene_from_tree(tree, "slot");
-    const TriMesh& m = scene.primitives[0];
+    const TriangleMesh& m = scene.primitives[0].mesh;
+    const std::vector<int>& smoothing = scene.primitives[0].smoothing;
     // Closed: every edge in exactly two triangles, once each way.
     std::map<std::pair<int, int>, int> edges;
     for (const auto& t : m.triangles) {
@@ -126,9 +129,9 @@ TEST(DiffcsgVisibility, ExtrudesAndConesAreClosedWithTheirVolumes) {
       const std::size_t r = (q + 1) % (poly.size() / 2);
       area += (poly[2 * q] * poly[2 * r + 1] - poly[2 * r] * poly[2 * q + 1]) / 2;
     }
-    EXPECT_NEAR(signed_volume6(m) / 6, std::abs(area) * 0.5, 1e-12);
+    EXPECT_NEAR(signed_volume(m), std::abs(area) * 0.5, 1e-12);
     // The ends meet the sides tangentially: one smooth wall (and -1, the flat caps).
-    std::set<int> groups(m.smoothing.begin(), m.smoothing.end());
+    std::set<int> groups(smoothing.begin(), smoothing.end());
     EXPECT_EQ(groups.size(), 2u);
   }
   // A D: its straight back meets the sides at right angles and the sides turn by 31 degrees
@@ -139,16 +142,16 @@ TEST(DiffcsgVisibility, ExtrudesAndConesAreClosedWithTheirVolumes) {
                   [0.9, 0.3], [0.5, 0.5], [0.2, 0.5], [-0.2, 0.5], [-0.6, 0.5], [-0.6, 0.2],
                   [-0.6, -0.2]], "height": 0.4}})");
   const Scene ds = scene_from_tree(d, "d");
-  const TriMesh& dm = ds.primitives[0];
-  EXPECT_EQ(std::set<int>(dm.smoothing.begin(), dm.smoothing.end()).size(), 5u);
+  const std::vector<int>& dm = ds.primitives[0].smoothing;
+  EXPECT_EQ(std::set<int>(dm.begin(), dm.end()).size(), 5u);
   const Tree cone = io::read_tree_string(
       R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"type": "cone",
       "radius1": 0.5, "radius2": 0, "height": 1}})");
   const Scene s = scene_from_tree(cone, "cone");
   // A 16-sided pyramid: base area 16/2 sin(2 pi/16) r^2, times h / 3.
-  EXPECT_NEAR(signed_volume6(s.primitives[0]) / 6,
+  EXPECT_NEAR(signed_volume(s.primitives[0].mesh),
               8 * std::sin(2 * 3.14159265358979 / 16) * 0.25 / 3, 1e-12);
-  EXPECT_EQ(s.primitives[0].vertices.size(), 16u + 1 + 1);  // the ring, its centre, the apex
+  EXPECT_EQ(s.primitives[0].mesh.vertices.size(), 16u + 1 + 1);  // the ring, its centre, the apex
   // A self-intersecting profile is refused naming the node.
   try {
     scene_from_tree(io::read_tree_string(
@@ -389,7 +392,8 @@ TEST(DiffcsgVisibility, TheFastRendererDrawsTheFirstImplementationsFramesToTheBi
   int drawn = 0;
   for (const auto& [name, scene] : scenes) {
     double size = 0;
-    for (const TriMesh& m : scene.primitives) {
+    for (const PrimitiveMesh& primitive : scene.primitives) {
+      const TriangleMesh& m = primitive.mesh;
       for (const Vec3& v : m.vertices)
         size = std::max({size, std::abs(v[0]), std::abs(v[1]), std::abs(v[2])});
     }

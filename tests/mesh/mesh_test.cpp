@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <array>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
@@ -47,7 +48,7 @@ TEST(Mesh, SphereIsClosedOrientedAndHasItsVolume) {
   EXPECT_EQ(open_or_misoriented_edges(m), 0u);
   EXPECT_EQ(euler_characteristic(m), 2);
   const double exact = 4.0 / 3.0 * kPi * 0.6 * 0.6 * 0.6;
-  EXPECT_NEAR(mesh_volume(m), exact, 0.01 * exact);
+  EXPECT_NEAR(signed_volume(m), exact, 0.01 * exact);
   for (const auto& v : m.vertices) {
     EXPECT_NEAR(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), 0.6, 2e-3);
   }
@@ -65,7 +66,7 @@ TEST(Mesh, HoleGivesGenusOne) {
   EXPECT_EQ(open_or_misoriented_edges(m), 0u);
   EXPECT_EQ(euler_characteristic(m), 0);
   const double exact = 1.2 * 0.8 * 0.4 - kPi * 0.15 * 0.15 * 0.8;
-  EXPECT_NEAR(mesh_volume(m), exact, 0.03 * exact);
+  EXPECT_NEAR(signed_volume(m), exact, 0.03 * exact);
 }
 
 // The slotted plate of examples/extrude_bracket.json: a rounded slot (two straight sides, two
@@ -91,7 +92,7 @@ TEST(Mesh, ExtrudeBracketIsClosedWithItsVolume) {
   }
   EXPECT_NEAR(area, 0.9 * 0.6 + kPi * 0.3 * 0.3, 0.03);
   const double exact = (area - kPi * 0.15 * 0.15) * 0.2;
-  EXPECT_NEAR(mesh_volume(m), exact, 0.03 * exact);
+  EXPECT_NEAR(signed_volume(m), exact, 0.03 * exact);
 }
 
 // Pruning by bounds must not change the mesh: the same vertices and triangles, in the same
@@ -192,7 +193,7 @@ TEST(Mesh, CappedAtTheDomainBoundary) {
   EXPECT_EQ(euler_characteristic(m), 2);
   // The boundary points count as outside, so the box ends half a cell inside.
   const double side = 2.0 - 2.0 / 16.0;
-  EXPECT_NEAR(mesh_volume(m), side * side * side, 0.02 * 8.0);
+  EXPECT_NEAR(signed_volume(m), side * side * side, 0.02 * 8.0);
 }
 
 // Counted without check_mesh(): positions welded through a std::map, each triangle's corners
@@ -205,7 +206,7 @@ struct PositionCounts {
 };
 
 PositionCounts count_by_position(const TriangleMesh& m) {
-  std::map<std::array<float, 3>, int> ids;
+  std::map<std::array<double, 3>, int> ids;
   std::vector<int> id;
   for (const auto& v : m.vertices) id.push_back(ids.emplace(v, ids.size()).first->second);
   PositionCounts c;
@@ -274,7 +275,7 @@ TEST(Mesh, SurfaceThroughGridPointsIsAManifoldByPosition) {
   EXPECT_EQ(euler_characteristic(m), 2);
   expect_manifold_by_position(m, "box");
   // The level runs through the grid points: vertices sit a thousandth of a cell off them.
-  EXPECT_NEAR(mesh_volume(m), 1.0 * 0.5 * 0.75, 0.01);
+  EXPECT_NEAR(signed_volume(m), 1.0 * 0.5 * 0.75, 0.01);
   const Tree table = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/table.json");
   o.resolution = 128;
   const TriangleMesh t = extract_mesh(table, table.params.values(), o);
@@ -350,7 +351,7 @@ TEST(Mesh, ThreadCountDoesNotChangeTheMesh) {
   // Another brick size visits the bricks in another order: compare as sets of triangles.
   EXPECT_EQ(one.vertices.size(), two.vertices.size());
   EXPECT_EQ(one.triangles.size(), two.triangles.size());
-  EXPECT_NEAR(mesh_volume(one), mesh_volume(two), 1e-9);
+  EXPECT_NEAR(signed_volume(one), signed_volume(two), 1e-9);
 }
 
 TEST(Mesh, RejectsBadResolutions) {
@@ -492,6 +493,30 @@ TEST(MeshFiles, WrittenTableIsAManifoldAndTheCheckAgrees) {
     EXPECT_TRUE(check.closed_oriented_manifold()) << name;
   }
   EXPECT_THROW(read_triangle_mesh(dir / "fuzzycsg_no_such_mesh.obj"), InputError);
+}
+
+// Extraction computes its vertices in float and the mesh keeps those values exactly (its
+// coordinates are double): every file, whose coordinates are float, holds the same positions.
+TEST(MeshFiles, FilesHoldTheVerticesExactly) {
+  const Tree tree = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/table.json");
+  MeshOptions o;
+  o.resolution = 64;
+  const TriangleMesh m = extract_mesh(tree, tree.params.values(), o);
+  ASSERT_GT(m.vertices.size(), 100u);
+  for (const auto& v : m.vertices) {
+    for (const double x : v) ASSERT_EQ(x, static_cast<double>(static_cast<float>(x)));
+  }
+  const std::set<std::array<double, 3>> positions(m.vertices.begin(), m.vertices.end());
+  const std::filesystem::path dir = ::testing::TempDir();
+  for (const char* name : {"fuzzycsg_exact.obj", "fuzzycsg_exact.stl", "fuzzycsg_exact.ply"}) {
+    const std::filesystem::path path = dir / name;
+    write_mesh(m, path);
+    const TriangleMesh stored = read_triangle_mesh(path);
+    EXPECT_EQ(stored.triangles.size(), m.triangles.size()) << name;
+    const std::set<std::array<double, 3>> stored_positions(stored.vertices.begin(),
+                                                           stored.vertices.end());
+    EXPECT_EQ(stored_positions, positions) << name;
+  }
 }
 
 TEST(MeshFiles, BadPathsLeaveNothing) {

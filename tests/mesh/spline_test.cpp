@@ -139,7 +139,7 @@ TEST(SplineMesh, ClosedAndSimplifiedMatchesWhole) {
   for (std::size_t v = 0; v < simple.vertices.size(); ++v) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(simple.vertices[v][c], whole.vertices[v][c], 1e-4);
   }
-  EXPECT_GT(mesh_volume(simple), 0.1);
+  EXPECT_GT(signed_volume(simple), 0.1);
   // Each brick needs at most 3 of the 4 functions per axis (27 of the 64 children).
   EXPECT_LT(simple_stats.leaves_evaluated * 2, whole_stats.leaves_evaluated);
 

@@ -35,15 +35,7 @@ constexpr int kWidth = 240, kHeight = 180;  // not square: the aspect ratio is c
 
 // Two views of the scene's bounding box from outside it.
 std::vector<Camera> views(const Scene& scene) {
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const diffcsg::TriMesh& m : scene.primitives) {
-    for (const Vec3& v : m.vertices) {
-      for (std::size_t k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], v[k]);
-        hi[k] = std::max(hi[k], v[k]);
-      }
-    }
-  }
+  const auto [lo, hi] = scene.bounds();
   const Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
   const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
   return {Camera::orbit(centre, 30, 30, 2.5 * size, kWidth, kHeight, 35),

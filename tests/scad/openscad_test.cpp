@@ -72,7 +72,7 @@ scad_test::Agreement expect_matches(const Tree& tree, const Rendered& r, double 
   MeshOptions mo;
   mo.resolution = 128;
   const TriangleMesh ours = extract_mesh(tree, tree.params.values(), mo);
-  const double v_ours = mesh_volume(ours), v_scad = mesh_volume(r.mesh);
+  const double v_ours = signed_volume(ours), v_scad = signed_volume(r.mesh);
   EXPECT_NEAR(v_scad, v_ours, volume_tol * v_ours);
   const scad_test::Agreement a =
       agreement(tree, 8000, [&](const std::array<double, 3>& p) { return inside_mesh(r.mesh, p); });

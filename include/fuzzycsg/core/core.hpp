@@ -18,6 +18,8 @@
 //                     operators, the unified operator B_c.
 //   bspline.hpp       the basis of the fuzzy spline node.
 //   program.hpp       a tree compiled into a post-order tape, as the evaluator runs it.
+//   triangle_mesh.hpp TriangleMesh, the triangle mesh every module shares; signed_volume,
+//                     bounding_box.
 //   numbers.hpp       printing numbers for people and files.
 //   error.hpp         Error and InputError (one-line messages naming the source).
 
@@ -37,3 +39,4 @@
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/core/tree_builder.hpp"
+#include "fuzzycsg/core/triangle_mesh.hpp"

@@ -3,7 +3,8 @@
 // and refinement of a model's parameters against images or a mesh.
 //
 //   scene.hpp         Scene, scene_from_tree: leaves tessellated, tessellation bound to the
-//                     parameters.
+//                     parameters; PrimitiveMesh, a primitive's TriangleMesh (core) and its
+//                     smoothing groups.
 //   openscad_csg.hpp  OpenSCAD models (imported by the scad module) as scenes and as trees with
 //                     OpenSCAD's tessellation.
 //   visibility.hpp    exact CSG visibility by rays (Embree), render_visibility.

@@ -32,7 +32,7 @@ struct VertexGradient {
   void resize(const Scene& scene) {
     g.resize(scene.primitives.size());
     for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-      g[p].resize(scene.primitives[p].vertices.size(), Vec3{0, 0, 0});
+      g[p].resize(scene.primitives[p].mesh.vertices.size(), Vec3{0, 0, 0});
     }
   }
   void add(int primitive, int vertex, const Vec3& grad, std::size_t pixel) {

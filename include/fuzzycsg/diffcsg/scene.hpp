@@ -41,6 +41,7 @@
 
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/core/triangle_mesh.hpp"
 
 namespace fuzzycsg::diffcsg {
 
@@ -52,25 +53,22 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-struct TriMesh {
-  std::vector<Vec3> vertices;
-  std::vector<std::array<int, 3>> triangles;
-  // Shading: per triangle, a smoothing group (>= 0: normals are averaged over the triangles of
-  // the group around each vertex) or -1 (flat: the face's own normal). Empty: all flat.
+// A primitive's closed mesh (core's TriangleMesh: its vertices are Vec3) and how it is shaded.
+struct PrimitiveMesh {
+  TriangleMesh mesh;
+  // Per triangle, a smoothing group (>= 0: normals are averaged over the triangles of the group
+  // around each vertex) or -1 (flat: the face's own normal). Empty: all flat.
   std::vector<int> smoothing;
 };
 
-// Six times the signed volume enclosed (positive for outward normals).
-double signed_volume6(const TriMesh& m);
-
 // Unit meshes (sizes 1; the sphere of radius 1, the cylinder of radius 1 and height 1), with
 // their smoothing groups.
-TriMesh unit_box();
-TriMesh unit_sphere(int subdivisions);
-TriMesh unit_cylinder(int segments);
+PrimitiveMesh unit_box();
+PrimitiveMesh unit_sphere(int subdivisions);
+PrimitiveMesh unit_cylinder(int segments);
 // OpenSCAD 2021.01's sphere of radius 1 with `fragments` fragments: (fragments + 1) / 2 rings
 // of latitude, capped by polygons.
-TriMesh openscad_sphere(int fragments);
+PrimitiveMesh openscad_sphere(int fragments);
 
 // The most fragments a sphere or cylinder may have (a sphere of n fragments has about n^2
 // triangles): more is refused, by the .csg readers and by scene_from_tree alike.
@@ -117,8 +115,8 @@ struct PrimitiveBinding {
 };
 
 struct Scene {
-  std::vector<TriMesh> primitives;  // world coordinates
-  std::vector<int> tree_node;       // the Tree node of each primitive
+  std::vector<PrimitiveMesh> primitives;  // world coordinates
+  std::vector<int> tree_node;             // the Tree node of each primitive
   std::vector<CsgNode> nodes;
   int root = -1;
   // One per primitive when the scene was built from a tree (scene_from_tree), else empty.
@@ -140,6 +138,6 @@ Scene scene_from_tree(const Tree& tree, const std::string& source,
 
 // A closed mesh as a scene of one primitive (a target to render). Normals are averaged across
 // edges whose faces meet at less than `crease_degrees`; sharper edges stay sharp.
-Scene scene_from_mesh(TriMesh mesh, double crease_degrees = 30);
+Scene scene_from_mesh(TriangleMesh mesh, double crease_degrees = 30);
 
 }  // namespace fuzzycsg::diffcsg

@@ -5,7 +5,7 @@
 // Normals: each pixel interpolates the shading normals of its visible triangle's three corners
 // with the perspective-correct barycentrics of the pixel centre, computed from the corners'
 // clip coordinates as nvdiffrast does (../shared/notes/diffcsg.md §1.4), not renormalised. A
-// corner's normal is the face's own normal on flat triangles (TriMesh::smoothing -1), or the
+// corner's normal is the face's own normal on flat triangles (PrimitiveMesh::smoothing -1), or the
 // normalised area-weighted sum of the face normals of its smoothing group around the vertex,
 // so it is a function of the world vertices. Where the visible surface is a back face (inside
 // of a subtracted primitive), the normal is turned over: the solid's outward normal. The

@@ -1,7 +1,7 @@
 #pragma once
-// The mesh module: a tree's 0.5 level set as a triangle mesh (3D) or contours (2D), extracted
-// where interval bounds say the surface can be, and written as OBJ, STL, PLY or SVG. This header
-// is all of its interface.
+// The mesh module: a tree's 0.5 level set as a triangle mesh (3D, core's TriangleMesh) or
+// contours (2D), extracted where interval bounds say the surface can be, checked, and written as
+// OBJ, STL, PLY or SVG. This header is all of its interface.
 //
 // The 0.5 level set of a tree's occupancy: a closed, consistently oriented triangle mesh in 3D,
 // closed polylines in 2D.
@@ -23,6 +23,10 @@
 // thousandth of its edge from it, so that no two vertices coincide and the surface is a closed
 // 2-manifold in its positions, not only in its indices. Inside is occupancy >= level; triangles
 // wind counter-clockwise seen from outside (normals point out).
+//
+// The mesh is core's TriangleMesh (fuzzycsg/core/triangle_mesh.hpp; its signed_volume gives the
+// volume). The grid is evaluated and the vertices interpolated in float; the mesh stores those
+// float values exactly, and the files write them as float.
 
 #include <array>
 #include <cstddef>
@@ -32,13 +36,9 @@
 #include <vector>
 
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/core/triangle_mesh.hpp"
 
 namespace fuzzycsg {
-
-struct TriangleMesh {
-  std::vector<std::array<float, 3>> vertices;
-  std::vector<std::array<int, 3>> triangles;
-};
 
 // 2D: closed loops, each a list of vertices (the last joins the first), inside on the left
 // (outer boundaries counter-clockwise, holes clockwise).
@@ -79,15 +79,14 @@ TriangleMesh extract_mesh(const Tree& tree, std::span<const double> params,
 Contours extract_contours(const Tree& tree, std::span<const double> params,
                           const MeshOptions& options = {}, MeshStats* stats = nullptr);
 
-// Signed volume (positive for outward-facing triangles) and the number of edges that are not
-// shared by exactly two triangles with opposite orientations (0 for a closed, consistently
-// oriented surface). The edges are those of the vertex indices: vertices at the same position
-// count as different (check_mesh() counts by position).
-double mesh_volume(const TriangleMesh& mesh);
+// The number of edges that are not shared by exactly two triangles with opposite orientations
+// (0 for a closed, consistently oriented surface). The edges are those of the vertex indices:
+// vertices at the same position count as different (check_mesh() counts by position).
 std::size_t open_or_misoriented_edges(const TriangleMesh& mesh);
 
-// The mesh as a reader of its file sees it: vertices at the same position (compared exactly)
-// welded into one, as OBJ's exporter does and any tool that welds does, then counted.
+// The mesh as a reader of its file sees it: vertices at the same position (compared exactly, in
+// the mesh's coordinates) welded into one, as OBJ's exporter does and any tool that welds does,
+// then counted.
 struct MeshCheck {
   std::size_t vertices = 0;   // distinct positions used by the triangles
   std::size_t triangles = 0;  // all of them, degenerate ones included
@@ -110,8 +109,9 @@ MeshCheck check_mesh(const TriangleMesh& mesh);
 double contours_area(const Contours& contours);
 
 // Writes the mesh as OBJ, STL (binary) or PLY (binary) chosen by the path's extension, through
-// assimp's exporters; 2D contours as OBJ polylines ("l" elements) or SVG. The file is written
-// to a temporary name beside `path` and renamed, so that a failure leaves no partial file.
+// assimp's exporters, with coordinates in float (exact for extract_mesh()'s vertices); 2D
+// contours as OBJ polylines ("l" elements) or SVG. The file is written to a temporary name
+// beside `path` and renamed, so that a failure leaves no partial file.
 // Throws InputError (unknown extension, unwritable path) naming the path.
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
 // A mesh file (OBJ, STL, PLY, ...) read back through assimp's importers as it is stored: no

@@ -1,7 +1,8 @@
 #pragma once
 // The target module: shapes to fit, as crisp occupancy with training samplers. This header is
 // its main one (Target, load_target, the samplers); the others:
-//   mesh_file.hpp             read_mesh_file: triangle meshes through assimp, checked.
+//   mesh_file.hpp             read_mesh_file: triangle meshes (core's TriangleMesh) through
+//                             assimp, checked.
 //   picture.hpp               read_picture: pictures as binary masks (stb_image, Netpbm).
 //   signed_distance_grid.hpp  exact signed distance fields of masks.
 //
