@@ -33,6 +33,7 @@ set(FUZZYCSG_FIND_OpenCSG OpenCSG)
 set(FUZZYCSG_PKGCONFIG_STB stb)
 set(FUZZYCSG_PKGCONFIG_GVC libgvc)
 set(FUZZYCSG_PKGCONFIG_GIF libgif)
+set(FUZZYCSG_PKGCONFIG_CAIRO cairo)
 
 # The package an imported target belongs to.
 function(_fuzzycsg_package_of item out)

@@ -198,16 +198,18 @@ class Figure {
   std::string name_;
 };
 
-// A canvas at least as wide as its title (12 pixels a character at scale 2), title drawn.
+// A canvas at least as wide as its title, title drawn.
+constexpr double kTitleSize = 18;
 Canvas titled(int w, int h, const std::string& text) {
-  Canvas c(std::max(w, 12 * static_cast<int>(text.size()) + 24), h);
-  c.text(12, 12, text, kInk, 2, 0);
+  Canvas c(std::max(w, static_cast<int>(std::ceil(Canvas::text_width(text, kTitleSize))) + 24), h);
+  c.text(12, 14, text, kInk, kTitleSize);
   return c;
 }
 void row_label(Canvas& c, const Layout& l, int row, const std::string& a,
                const std::string& b = "") {
-  c.text(10, l.y(row) + l.panel / 2.0 - (b.empty() ? 7 : 16), a, kInk, 2, 0);
-  if (!b.empty()) c.text(10, l.y(row) + l.panel / 2.0 + 4, b, kInk, 2, 0);
+  const double middle = l.y(row) + l.panel / 2.0;
+  c.text(10, b.empty() ? middle : middle - 10, a, kInk, kTextSize, Align::kLeft, Anchor::kMiddle);
+  if (!b.empty()) c.text(10, middle + 10, b, kInk, kTextSize, Align::kLeft, Anchor::kMiddle);
 }
 void panel_caption(Canvas& c, const Layout& l, int row, int col, const std::string& text) {
   caption(c, l.x(col), l.panel, l.y(row) - l.caption + 6, text);
@@ -539,12 +541,12 @@ void litian_spline(const FigureOptions& o) {
   for (int k = 1; k < nx - degree; ++k) {
     const int x =
         l.x(1) + static_cast<int>(std::lround(static_cast<double>(k) / (nx - degree) * n));
-    c.line(x, l.y(0), x, l.y(0) + n - 1, {200, 200, 200});
+    c.line(x, l.y(0), x, l.y(0) + n, {200, 200, 200});
   }
   for (int k = 1; k < ny - degree; ++k) {
     const int y =
         l.y(0) + static_cast<int>(std::lround(static_cast<double>(k) / (ny - degree) * n));
-    c.line(l.x(1), y, l.x(1) + n - 1, y, {200, 200, 200});
+    c.line(l.x(1), y, l.x(1) + n, y, {200, 200, 200});
   }
   panel_caption(c, l, 0, 1, fmt::format("B_k, k = ({}, {}); knot lines", bi, bj));
   fig.save_tree("shape", tree);

@@ -52,24 +52,27 @@ Field map(const Field& a, const std::function<double(double)>& f) {
 }
 
 void draw_colormap(Canvas& canvas, int ox, int oy, const Field& f, double lo, double hi) {
+  Pixels px(f.w, f.h);
   for (int r = 0; r < f.h; ++r) {
-    for (int c = 0; c < f.w; ++c)
-      canvas.set(ox + c, oy + r, viridis((f.at(c, r) - lo) / (hi - lo)));
+    for (int c = 0; c < f.w; ++c) px.at(c, r) = viridis((f.at(c, r) - lo) / (hi - lo));
   }
+  canvas.image(ox, oy, px);
 }
 
 void draw_level_set(Canvas& canvas, int ox, int oy, const Field& f, double level, bool inside_above,
                     Rgb inside, Rgb outside) {
+  Pixels px(f.w, f.h);
   for (int r = 0; r < f.h; ++r) {
     for (int c = 0; c < f.w; ++c) {
       const double v = f.at(c, r);
-      canvas.set(ox + c, oy + r, (inside_above ? v >= level : v < level) ? inside : outside);
+      px.at(c, r) = (inside_above ? v >= level : v < level) ? inside : outside;
     }
   }
+  canvas.image(ox, oy, px);
 }
 
 void draw_contour(Canvas& canvas, int ox, int oy, const Field& f, double level, Rgb colour,
-                  int thick) {
+                  double thick) {
   for (int r = 0; r + 1 < f.h; ++r) {
     for (int c = 0; c + 1 < f.w; ++c) {
       // Corners counter-clockwise from the top left; edges k joins corner k and k + 1.
@@ -100,10 +103,10 @@ void draw_contour(Canvas& canvas, int ox, int oy, const Field& f, double level, 
 }
 
 void draw_frame(Canvas& canvas, int x0, int y0, int x1, int y1, Rgb colour) {
-  canvas.line(x0, y0, x1, y0, colour);
-  canvas.line(x1, y0, x1, y1, colour);
-  canvas.line(x1, y1, x0, y1, colour);
-  canvas.line(x0, y1, x0, y0, colour);
+  // Through the pixels' centres: one pixel wide, crisp.
+  const std::array<Point, 4> corners{
+      {{x0 + 0.5, y0 + 0.5}, {x1 + 0.5, y0 + 0.5}, {x1 + 0.5, y1 + 0.5}, {x0 + 0.5, y1 + 0.5}}};
+  canvas.polyline(corners, colour, 1, true);
 }
 
 void paste_png(Canvas& canvas, int ox, int oy, const std::string& png) {
@@ -111,13 +114,15 @@ void paste_png(Canvas& canvas, int ox, int oy, const std::string& png) {
   unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
                                             static_cast<int>(png.size()), &w, &h, &channels, 3);
   if (px == nullptr) throw std::runtime_error("paste_png: not a PNG");
+  Pixels image(w, h);
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const unsigned char* q = px + (static_cast<std::size_t>(y) * w + x) * 3;
-      canvas.set(ox + x, oy + y, {q[0], q[1], q[2]});
+      image.at(x, y) = {q[0], q[1], q[2]};
     }
   }
   stbi_image_free(px);
+  canvas.image(ox, oy, image);
 }
 
 void draw_line_plot(Canvas& canvas, int x0, int y0, int w, int h, std::span<const Series> series,
@@ -131,19 +136,25 @@ void draw_line_plot(Canvas& canvas, int x0, int y0, int w, int h, std::span<cons
     const double x = xmin + (xmax - xmin) * k / 4, y = ymin + (ymax - ymin) * k / 4;
     canvas.line(sx(x), top, sx(x), bottom, grid);
     canvas.line(left, sy(y), right, sy(y), grid);
-    canvas.text(sx(x), bottom + 8, fmt::format("{:g}", x), axis, 2, 1);
-    canvas.text(left - 8, sy(y) - 7, fmt::format("{:.2f}", y), axis, 2, 2);
+    canvas.text(sx(x), bottom + 8, fmt::format("{:g}", x), axis, kTextSize, Align::kCentre);
+    canvas.text(left - 8, sy(y), fmt::format("{:.2f}", y), axis, kTextSize, Align::kRight,
+                Anchor::kMiddle);
   }
   draw_frame(canvas, left, top, right, bottom, axis);
-  canvas.text((left + right) / 2.0, bottom + 28, xlabel, axis, 2, 1);
-  canvas.text(x0 + 4, top - 28, ylabel, axis, 2, 0);
+  canvas.text((left + right) / 2.0, bottom + 28, xlabel, axis, kTextSize, Align::kCentre);
+  canvas.text(x0 + 4, top - 26, ylabel, axis, kTextSize);
+  for (const Series& s : series) {
+    std::vector<Point> line;
+    for (std::size_t i = 0; i < s.x.size(); ++i) line.push_back({sx(s.x[i]), sy(s.y[i])});
+    canvas.polyline(line, s.colour, 3);
+  }
+  // The legend, on white over the curves.
+  canvas.fill(right - 196, top + 2, right - 4, top + 12 + 22.0 * static_cast<double>(series.size()),
+              Rgb{255, 255, 255});
   int legend_y = top + 8;
   for (const Series& s : series) {
-    for (std::size_t i = 0; i + 1 < s.x.size(); ++i) {
-      canvas.line(sx(s.x[i]), sy(s.y[i]), sx(s.x[i + 1]), sy(s.y[i + 1]), s.colour, 3);
-    }
     canvas.line(right - 190, legend_y + 7, right - 160, legend_y + 7, s.colour, 3);
-    canvas.text(right - 152, legend_y, s.label, axis, 2, 0);
+    canvas.text(right - 152, legend_y + 7, s.label, axis, kTextSize, Align::kLeft, Anchor::kMiddle);
     legend_y += 22;
   }
 }
@@ -154,29 +165,6 @@ struct Vec3 {
   double x, y, z;
 };
 double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-
-// Fills the triangle (a, b, c) in screen coordinates.
-void fill_triangle(Canvas& canvas, const std::array<double, 2>& a, const std::array<double, 2>& b,
-                   const std::array<double, 2>& c, Rgb colour) {
-  const int xmin = static_cast<int>(std::floor(std::min({a[0], b[0], c[0]})));
-  const int xmax = static_cast<int>(std::ceil(std::max({a[0], b[0], c[0]})));
-  const int ymin = static_cast<int>(std::floor(std::min({a[1], b[1], c[1]})));
-  const int ymax = static_cast<int>(std::ceil(std::max({a[1], b[1], c[1]})));
-  const auto edge = [](const std::array<double, 2>& p, const std::array<double, 2>& q, double x,
-                       double y) {
-    return (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]);
-  };
-  const double area = edge(a, b, c[0], c[1]);
-  if (std::abs(area) < 1e-12) return;
-  for (int y = ymin; y <= ymax; ++y) {
-    for (int x = xmin; x <= xmax; ++x) {
-      const double px = x + 0.5, py = y + 0.5;
-      const double w0 = edge(b, c, px, py) / area, w1 = edge(c, a, px, py) / area,
-                   w2 = edge(a, b, px, py) / area;
-      if (w0 >= -1e-9 && w1 >= -1e-9 && w2 >= -1e-9) canvas.set(x, y, colour);
-    }
-  }
-}
 
 }  // namespace
 
@@ -255,26 +243,24 @@ void draw_surface(Canvas& canvas, int x0, int y0, int w, int h,
     const Rgb c{static_cast<unsigned char>(base.r * shade),
                 static_cast<unsigned char>(base.g * shade),
                 static_cast<unsigned char>(base.b * shade)};
-    std::array<std::array<double, 2>, 4> s{};
+    std::array<Point, 4> s{};
     for (int k = 0; k < 4; ++k) s[k] = project(q.p[k]);
-    fill_triangle(canvas, s[0], s[1], s[2], c);
-    fill_triangle(canvas, s[0], s[2], s[3], c);
+    canvas.fill(s, c);
     const Rgb line{static_cast<unsigned char>(c.r * 0.7), static_cast<unsigned char>(c.g * 0.7),
                    static_cast<unsigned char>(c.b * 0.7)};
-    for (int k = 0; k < 4; ++k)
-      canvas.line(s[k][0], s[k][1], s[(k + 1) % 4][0], s[(k + 1) % 4][1], line);
+    canvas.polyline(s, line, 1, true);
   }
   // Axis labels at the floor's corners.
   const auto label = [&](const Vec3& p, const std::string& t) {
     const auto s = project(p);
-    canvas.text(s[0], s[1] + 4, t, edge_colour, 2, 1);
+    canvas.text(s[0], s[1] + 4, t, edge_colour, kTextSize, Align::kCentre);
   };
   label({1.08, 0, 0}, "x");
   label({0, 1.08, 0}, "y");
 }
 
-void caption(Canvas& canvas, int x0, int w, int y, const std::string& text, int scale) {
-  canvas.text(x0 + w / 2.0, y, text, Rgb{30, 30, 30}, scale, 1);
+void caption(Canvas& canvas, int x0, int w, int y, const std::string& text, double size) {
+  canvas.text(x0 + w / 2.0, y, text, Rgb{30, 30, 30}, size, Align::kCentre);
 }
 
 }  // namespace fuzzycsg::gallery

@@ -39,13 +39,17 @@ Field sample(const std::function<double(double, double)>& f, const Window& windo
 Field sample_tree(const Tree& tree, const Window& window, int w, int h);
 Field map(const Field& a, const std::function<double(double)>& f);
 
-// Pixel drawing at canvas offset (ox, oy).
+// The text of the figures' labels, pixels to the em.
+constexpr double kTextSize = 16;
+
+// Fields drawn one pixel a sample with their top left corner at (ox, oy).
 void draw_colormap(Canvas& canvas, int ox, int oy, const Field& f, double lo, double hi);
 void draw_level_set(Canvas& canvas, int ox, int oy, const Field& f, double level, bool inside_above,
                     Rgb inside, Rgb outside);
 // The level's contour by marching squares (segments between pixel centres).
 void draw_contour(Canvas& canvas, int ox, int oy, const Field& f, double level, Rgb colour,
-                  int thick = 2);
+                  double thick = 2);
+// A one-pixel frame on the pixels of the rectangle's edges (x1, y1 included).
 void draw_frame(Canvas& canvas, int x0, int y0, int x1, int y1, Rgb colour);
 // PNG bytes (render_png) decoded and copied in.
 void paste_png(Canvas& canvas, int ox, int oy, const std::string& png);
@@ -67,6 +71,7 @@ void draw_surface(Canvas& canvas, int x0, int y0, int w, int h,
                   double azimuth_deg = -125, double elevation_deg = 30);
 
 // Text centred horizontally over a panel [x0, x0 + w).
-void caption(Canvas& canvas, int x0, int w, int y, const std::string& text, int scale = 2);
+void caption(Canvas& canvas, int x0, int w, int y, const std::string& text,
+             double size = kTextSize);
 
 }  // namespace fuzzycsg::gallery

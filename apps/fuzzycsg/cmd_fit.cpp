@@ -314,8 +314,11 @@ int run_fit_job(const FitJob& job) {
       return render_png(r.pruned, r.pruned.params.values(), ro);
     });
   } else {
-    picture("plot.png",
-            [&] { return plot_2d_png(r.pruned, r.pruned.params.values(), 600, options.threads); });
+    picture("plot.png", [&] {
+      PlotOptions po;
+      po.threads = options.threads;
+      return plot_2d(r.pruned, r.pruned.params.values(), po);
+    });
     picture("outlines.svg", [&] {
       OutlineOptions oo;
       oo.threads = options.threads;

@@ -1,20 +1,23 @@
-// fuzzycsg render TREE -o OUT.png|OUT.svg [--size W H] [--camera EX EY EZ TX TY TZ] [--fov F]
-//                 [--views N] [--up [-]x|y|z] [--resolution N] [--threads N]
+// fuzzycsg render TREE -o OUT.png|OUT.svg|OUT.pdf [--plot] [--size W H] [--camera EX EY EZ TX TY
+// TZ]
+//                 [--fov F] [--views N] [--up [-]x|y|z] [--resolution N] [--threads N]
 //
-// A shaded picture of a 3D tree's 0.5 level set, from a camera or from default cameras that
-// frame the shape (several side by side with --views); of a 2D tree, its occupancy with a
-// colour scale and the 0.5 contour, or (OUT.svg) its primitives' outlines over the result.
+// A shaded picture of a 3D tree's 0.5 level set (PNG), from a camera or from default cameras
+// that frame the shape (several side by side with --views); of a 2D tree, its occupancy with a
+// colour scale and the 0.5 contour (PNG, PDF, and SVG with --plot), or (OUT.svg) its
+// primitives' outlines over the result. The format follows OUT's extension.
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/canvas.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/render/render.hpp"
@@ -25,6 +28,7 @@ namespace {
 
 struct RenderArgs {
   std::string tree, out;
+  bool plot = false;
   std::vector<int> size{800, 600};
   std::vector<double> camera;
   double fov = 30.0;
@@ -33,14 +37,22 @@ struct RenderArgs {
 };
 
 int run_render(RenderArgs a) {
+  const std::optional<PictureFormat> format = picture_format_of(a.out);
+  if (!format) {
+    throw InputError(
+        fmt::format("{}: unknown picture format '{}' (render writes .png, .svg or .pdf)", a.out,
+                    std::filesystem::path(a.out).extension().string()));
+  }
   const Tree tree = io::read_tree_file(a.tree);
-  std::string ext = std::filesystem::path(a.out).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".svg") {
-    // The primitives' outlines over the filled result; --size W: the longer side.
-    if (tree.dim != 2) {
-      throw InputError(fmt::format("{}: SVG is for 2D trees (a 3D tree renders to PNG)", a.out));
+  if (tree.dim != 2) {
+    if (a.plot) throw InputError(fmt::format("--plot: {} is a 3D tree (the plot is 2D)", a.tree));
+    if (*format != PictureFormat::kPng) {
+      throw InputError(fmt::format("{}: {} is for 2D trees (a 3D tree renders to PNG)", a.out,
+                                   *format == PictureFormat::kSvg ? "SVG" : "PDF"));
     }
+  }
+  if (tree.dim == 2 && *format == PictureFormat::kSvg && !a.plot) {
+    // The primitives' outlines over the filled result; --size W: the longer side.
     OutlineOptions o;
     o.size = a.size[0];
     o.resolution = a.options.resolution;
@@ -56,13 +68,17 @@ int run_render(RenderArgs a) {
   }
   if (tree.dim == 2) {
     // The occupancy with a colour scale and the 0.5 contour; --size W: the longer side.
-    std::string png;
+    PlotOptions p;
+    p.size = a.size[0];
+    p.format = *format;
+    p.threads = a.options.threads;
+    std::string picture;
     try {
-      png = plot_2d_png(tree, tree.params.values(), a.size[0], a.options.threads);
+      picture = plot_2d(tree, tree.params.values(), p);
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: {}", a.tree, e.what()));
     }
-    io::write_text_file_atomic(a.out, png);
+    io::write_text_file_atomic(a.out, picture);
     return 0;
   }
   a.options.width = a.size[0];
@@ -94,10 +110,15 @@ Verb register_render(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
   CLI::App* cmd = app.add_subcommand(
       "render",
-      "A picture (PNG): a 3D tree shaded, a 2D tree's occupancy and 0.5 contour; (SVG) a 2D "
-      "tree's primitive outlines over the result");
+      "A picture: a 3D tree shaded (PNG); a 2D tree's occupancy and 0.5 contour (PNG, PDF), or "
+      "its primitive outlines over the result (SVG)");
   cmd->add_option("tree", a->tree, "Tree file")->required();
-  cmd->add_option("-o,--output", a->out, "PNG file, or SVG for a 2D tree")->required();
+  cmd->add_option("-o,--output", a->out,
+                  "Picture file, its format by the extension: .png, .svg (2D) or .pdf (2D)")
+      ->required();
+  cmd->add_flag("--plot", a->plot,
+                "2D: the occupancy plot in any format (an .svg output draws the outlines without "
+                "it)");
   cmd->add_option("--size", a->size, "Width and height of one view in pixels")
       ->expected(2)
       ->capture_default_str()

@@ -26,7 +26,7 @@ double nice_step(double lo, double hi, int target) {
   return 10.0 * mag;
 }
 
-// Whole numbers (the font's lower-case k reads as "<").
+// Whole numbers.
 std::string format_step(double v) { return fmt::format("{:.0f}", v); }
 
 }  // namespace
@@ -35,8 +35,8 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
                            int height) {
   Canvas c(width, height);
   const Rgb black{0, 0, 0}, grey{220, 220, 220}, blue{31, 119, 180};
-  const int left = 90, right = width - 45, top = 60, bottom = height - 60;
-  c.text(width / 2.0, 6, std::string(title), black, 2, 1);
+  const double left = 90, right = width - 45.0, top = 60, bottom = height - 60.0;
+  c.text(width / 2.0, 10, title, black, 16, Align::kCentre);
 
   std::vector<LossPoint> pts;
   for (const LossPoint& p : curve) {
@@ -66,31 +66,26 @@ std::string loss_curve_png(std::span<const LossPoint> curve, std::string_view ti
       if (std::log10(v) > y_hi + 1e-9 || (m != 1.0 && y_hi - y_lo > 4)) continue;
       const double y = sy(v);
       c.line(left, y, right, y, grey);
-      c.text(left - 8, y - 6, m == 1.0 ? fmt::format("1e{}", e) : fmt::format("{:g}", v), black, 2,
-             2);
+      c.text(left - 8, y, m == 1.0 ? fmt::format("1e{}", e) : fmt::format("{:g}", v), black, 14,
+             Align::kRight, Anchor::kMiddle);
     }
   }
   const double step = nice_step(0, x_hi, 6);
   for (double v = 0; v <= x_hi * (1 + 1e-9); v += step) {
     const double x = sx(v);
     c.line(x, top, x, bottom, grey);
-    c.text(x, bottom + 8, format_step(v), black, 2, 1);
+    c.text(x, bottom + 8, format_step(v), black, 14, Align::kCentre);
   }
-  c.line(left, bottom, right, bottom, black, 2);
-  c.line(left, top, left, bottom, black, 2);
-  c.text((left + right) / 2.0, height - 26, "step", black, 2, 1);
-  c.text(12, top - 30, "loss (MSE)", black, 2, 0);
+  const std::array<Point, 3> axes{{{left, top}, {left, bottom}, {right, bottom}}};
+  c.polyline(axes, black, 2);
+  c.text((left + right) / 2.0, height - 24, "step", black, 14, Align::kCentre);
+  c.text(12, top - 28, "loss (MSE)", black, 14);
 
-  for (std::size_t i = 1; i < pts.size(); ++i) {
-    c.line(sx(static_cast<double>(pts[i - 1].step)), sy(pts[i - 1].loss),
-           sx(static_cast<double>(pts[i].step)), sy(pts[i].loss), blue, 2);
-  }
-  if (pts.size() == 1) {
-    c.fill(static_cast<int>(sx(static_cast<double>(pts[0].step))) - 2,
-           static_cast<int>(sy(pts[0].loss)) - 2,
-           static_cast<int>(sx(static_cast<double>(pts[0].step))) + 3,
-           static_cast<int>(sy(pts[0].loss)) + 3, blue);
-  }
+  std::vector<Point> line;
+  for (const LossPoint& p : pts) line.push_back({sx(static_cast<double>(p.step)), sy(p.loss)});
+  c.polyline(line, blue, 2.5);
+  if (pts.size() == 1)
+    c.fill(line[0][0] - 2.5, line[0][1] - 2.5, line[0][0] + 2.5, line[0][1] + 2.5, blue);
   return c.png();
 }
 
@@ -100,6 +95,7 @@ std::string slices_png(const Target& target, const Tree& tree, int res, int thre
   const int width = 3 * res + 4 * kGap;
   const int height = 2 * res + 3 * kGap + 2 * kLabel;
   Canvas canvas(width, height);
+  Pixels slice(res, res);
   const Evaluator ev(tree, EvalOptions{threads});
   const std::vector<double> params = tree.params.values();
   std::vector<float> points(static_cast<std::size_t>(res) * static_cast<std::size_t>(res) * 3);
@@ -134,11 +130,13 @@ std::string slices_png(const Target& target, const Tree& tree, int res, int thre
                                 static_cast<std::size_t>(col)],
                          0.0f, 1.0f);
           const auto g = static_cast<unsigned char>(std::lround(255.0 * (1.0 - v)));
-          canvas.set(x0 + col, y0 + row, {g, g, g});
+          slice.at(col, row) = {g, g, g};
         }
       }
-      canvas.text(x0 + res / 2.0, y0 - kLabel + 4,
-                  fmt::format("{}: {}", which == 0 ? "target" : "fit", names[a]), {0, 0, 0}, 1, 1);
+      canvas.image(x0, y0, slice);
+      canvas.text(x0 + res / 2.0, y0 - kLabel / 2.0,
+                  fmt::format("{}: {}", which == 0 ? "target" : "fit", names[a]), {0, 0, 0}, 12,
+                  Align::kCentre, Anchor::kMiddle);
     }
   }
   return canvas.png();

@@ -12,8 +12,9 @@
 
 namespace fuzzycsg {
 
-std::string plot_2d_png(const Tree& tree, std::span<const double> params, int size, int threads) {
-  if (tree.dim != 2) throw InputError("plot_2d_png: the tree is 3D");
+std::string plot_2d(const Tree& tree, std::span<const double> params, const PlotOptions& options) {
+  const int size = options.size, threads = options.threads;
+  if (tree.dim != 2) throw InputError("plot_2d: the tree is 3D");
   if (size < 16 || size > 8192) {
     throw InputError(fmt::format("size must be 16..8192 pixels (got {})", size));
   }
@@ -40,36 +41,35 @@ std::string plot_2d_png(const Tree& tree, std::span<const double> params, int si
 
   const int margin = 20, bar = 22, labels = 70;
   Canvas canvas(margin + pw + margin + bar + labels, margin + ph + margin);
+  Pixels heat(pw, ph);
   for (int r = 0; r < ph; ++r) {
-    for (int c = 0; c < pw; ++c) {
-      canvas.set(margin + c, margin + r, viridis(occ[static_cast<std::size_t>(r) * pw + c]));
-    }
+    for (int c = 0; c < pw; ++c) heat.at(c, r) = viridis(occ[static_cast<std::size_t>(r) * pw + c]);
   }
+  canvas.image(margin, margin, heat);
   const auto px = [&](float x) { return margin + (x - d.min[0]) / w * pw; };
   const auto py = [&](float y) { return margin + (d.max[1] - y) / h * ph; };
   const Rgb white{255, 255, 255}, black{0, 0, 0};
-  const int thick = std::max(1, size / 300);
+  const double thick = std::max(2.0, size / 300.0);
+  std::vector<Point> path;
   for (const auto& loop : contours.loops) {
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-      const auto& a = loop[i];
-      const auto& b = loop[(i + 1) % loop.size()];
-      canvas.line(px(a[0]), py(a[1]), px(b[0]), py(b[1]), white, thick);
-    }
+    path.clear();
+    for (const auto& p : loop) path.push_back({px(p[0]), py(p[1])});
+    canvas.polyline(path, white, thick, true);
   }
   // The colour bar: 1 at the top, 0 at the bottom, ticks at 0, 0.5 and 1.
   const int bx = margin + pw + margin;
-  for (int r = 0; r < ph; ++r) {
-    canvas.fill(bx, margin + r, bx + bar, margin + r + 1, viridis(1.0 - (r + 0.5) / ph));
-  }
+  Pixels scale(1, ph);
+  for (int r = 0; r < ph; ++r) scale.at(0, r) = viridis(1.0 - (r + 0.5) / ph);
+  canvas.image(bx, margin, bar, ph, scale);
   for (const auto& [value, label] :
        {std::pair{0.0, "0"}, std::pair{0.5, "0.5"}, std::pair{1.0, "1"}}) {
-    const double y = margin + (1.0 - value) * (ph - 1);
+    const double y = margin + (1.0 - value) * ph;
     canvas.line(bx + bar, y, bx + bar + 5, y, black, 1);
-    canvas.text(bx + bar + 8, y - 6, label, black, 2, 0);
+    canvas.text(bx + bar + 8, y, label, black, 14, Align::kLeft, Anchor::kMiddle);
   }
   // The 0.5 level on the bar, in the contour's colour.
-  canvas.line(bx, margin + 0.5 * (ph - 1), bx + bar - 1, margin + 0.5 * (ph - 1), white, thick);
-  return canvas.png();
+  canvas.line(bx, margin + 0.5 * ph, bx + bar, margin + 0.5 * ph, white, thick);
+  return canvas.encode(options.format);
 }
 
 }  // namespace fuzzycsg

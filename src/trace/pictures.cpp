@@ -65,24 +65,26 @@ std::string result_png(const Bitmap& result, const Bitmap& target, int scale) {
   const bool legend = w >= 200;
   const int legend_h = legend ? 22 : 0;
   Canvas canvas(w, h + legend_h);
-  canvas.fill(0, 0, w, h + legend_h, Rgb{255, 255, 255});
   const auto rgb = [](const unsigned char(&c)[3]) { return Rgb{c[0], c[1], c[2]}; };
+  Pixels picture(result.width(), result.height());
   for (int row = 0; row < result.height(); ++row) {
     for (int col = 0; col < result.width(); ++col) {
       const bool t = target.get(col, row), r = result.get(col, row);
       const auto& c = r && t ? kInsideRgb : r ? kExcessRgb : t ? kUncoveredRgb : kOutsideRgb;
-      canvas.fill(col * scale, row * scale, (col + 1) * scale, (row + 1) * scale, rgb(c));
+      picture.at(col, row) = rgb(c);
     }
   }
+  canvas.image(0, 0, w, h, picture);
   if (legend) {
     canvas.fill(0, h, w, h + 1, Rgb{160, 160, 160});
     const std::array<std::pair<const unsigned char(*)[3], const char*>, 3> items{
         {{&kInsideRgb, "correct"}, {&kExcessRgb, "excess"}, {&kUncoveredRgb, "uncovered"}}};
-    int x = 6;
+    constexpr double kSize = 12;
+    double x = 6;
     for (const auto& [colour, name] : items) {
       canvas.fill(x, h + 6, x + 10, h + 16, rgb(*colour));
-      canvas.text(x + 14, h + 6, name, Rgb{40, 40, 40}, 1);
-      x += 14 + 6 * static_cast<int>(std::string(name).size()) + 14;
+      canvas.text(x + 14, h + 11, name, Rgb{40, 40, 40}, kSize, Align::kLeft, Anchor::kMiddle);
+      x += 14 + canvas.text_width(name, kSize) + 14;
     }
   }
   return canvas.png();

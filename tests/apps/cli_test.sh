@@ -450,7 +450,27 @@ else
   bad "render of a 2D tree to SVG"
 fi
 expect_error "s3.svg: SVG is for 2D trees" "$bin" render "$tmp/sphere.json" -o "$tmp/s3.svg"
-if [[ ! -e "$tmp/in.png" && ! -e "$tmp/far.png" && ! -e "$tmp/big.png" && ! -e "$tmp/s3.svg" ]]; then
+# The picture's format follows the output's extension: a 2D tree's plot as PDF, and as SVG with
+# --plot; another extension is refused, and so is PDF of a 3D tree.
+if "$bin" render "$src/examples/cart_2d.json" -o "$tmp/cart.PDF" --size 200 200 &&
+  [[ "$(head -c 5 "$tmp/cart.PDF")" == "%PDF-" ]] && grep -aq "/MediaBox" "$tmp/cart.PDF"; then
+  ok
+else
+  bad "render of a 2D tree to PDF"
+fi
+if "$bin" render "$src/examples/cart_2d.json" -o "$tmp/cart_plot.svg" --plot --size 200 200 &&
+  [[ $(grep -c "<image" "$tmp/cart_plot.svg") -eq 2 ]] && ! grep -q 'class="outline"' "$tmp/cart_plot.svg"; then
+  ok
+else
+  bad "render --plot of a 2D tree to SVG"
+fi
+expect_error "cart.jpg: unknown picture format '.jpg' \\(render writes .png, .svg or .pdf\\)" \
+  "$bin" render "$src/examples/cart_2d.json" -o "$tmp/cart.jpg"
+expect_error "s3.pdf: PDF is for 2D trees" "$bin" render "$tmp/sphere.json" -o "$tmp/s3.pdf"
+expect_error "^fuzzycsg: error: --plot: .*sphere.json is a 3D tree" \
+  "$bin" render "$tmp/sphere.json" -o "$tmp/s3p.png" --plot
+if [[ ! -e "$tmp/in.png" && ! -e "$tmp/far.png" && ! -e "$tmp/big.png" && ! -e "$tmp/s3.svg" &&
+  ! -e "$tmp/cart.jpg" && ! -e "$tmp/s3.pdf" && ! -e "$tmp/s3p.png" ]]; then
   ok
 else
   bad "render error left a file"

@@ -33,6 +33,17 @@ Image decode(const std::string& png) {
   return im;
 }
 
+// The root element's size of an SVG of width x height pixels.
+std::string fmt_size(int width, int height) {
+  return "width=\"" + std::to_string(width) + "px\" height=\"" + std::to_string(height) + "px\"";
+}
+
+std::size_t count(const std::string& s, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+  return n;
+}
+
 Tree ball(const char* where = "[0, 0, 0]") {
   return io::read_tree_string(std::string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
           "root": {"type": "sphere", "radius": 0.5, "sharpness": 100, "translate": )") +
@@ -103,7 +114,9 @@ TEST(Plot2d, OccupancyColoursContourAndBar) {
       R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
           "root": {"type": "circle", "radius": 0.5, "sharpness": 40}})",
       "disc");
-  const Image im = decode(plot_2d_png(tree, tree.params.values(), 200));
+  PlotOptions o;
+  o.size = 200;
+  const Image im = decode(plot_2d(tree, tree.params.values(), o));
   // 20 px margins, a 200 x 200 plot, then the colour bar and its labels.
   ASSERT_EQ(im.height, 240);
   ASSERT_GT(im.width, 240);
@@ -119,9 +132,36 @@ TEST(Plot2d, OccupancyColoursContourAndBar) {
     white += (c[0] == 255 && c[1] == 255 && c[2] == 255) ? 1 : 0;
   }
   EXPECT_GE(white, 1);
-  EXPECT_THROW(plot_2d_png(tree, tree.params.values(), 4), InputError);
+  // The occupancy is one pixel a sample: away from the contour, neighbours inside the disc are
+  // the same yellow, and the colour bar's top is viridis at 1.
+  EXPECT_EQ(im.at(119, 120), inside);
+  const Rgb top = viridis(1.0 - 0.5 / 200);
+  EXPECT_EQ(im.at(240 + 10, 20), (std::array<int, 3>{top.r, top.g, top.b}));
+  o.size = 4;
+  EXPECT_THROW(plot_2d(tree, tree.params.values(), o), InputError);
   const Tree ball3 = ball();
-  EXPECT_THROW(plot_2d_png(ball3, ball3.params.values()), InputError);
+  EXPECT_THROW(plot_2d(ball3, ball3.params.values()), InputError);
+}
+
+TEST(Plot2d, SvgAndPdfOfTheSamePlot) {
+  const Tree tree = io::read_tree_string(
+      R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+          "root": {"type": "circle", "radius": 0.5, "sharpness": 40}})",
+      "disc");
+  PlotOptions o;
+  o.size = 200;
+  const Image png = decode(plot_2d(tree, tree.params.values(), o));
+  o.format = PictureFormat::kSvg;
+  const std::string svg = plot_2d(tree, tree.params.values(), o);
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  EXPECT_NE(svg.find(fmt_size(png.width, png.height)), std::string::npos);
+  // The occupancy and the colour bar are images; the contour a path.
+  EXPECT_EQ(count(svg, "<image"), 2u);
+  EXPECT_LT(svg.size(), 200000u);
+  o.format = PictureFormat::kPdf;
+  const std::string pdf = plot_2d(tree, tree.params.values(), o);
+  EXPECT_EQ(pdf.rfind("%PDF", 0), 0u);
+  EXPECT_NE(pdf.find("/MediaBox [ 0 0 " + std::to_string(png.width) + " 240 ]"), std::string::npos);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #pragma once
-// Pictures a fit writes: the loss curve, and 2D occupancies. PNG through stb_image_write, text
-// through stb_easy_font.
+// Pictures a fit writes: the loss curve and the slices (drawn on io's Canvas, Cairo), and 2D
+// occupancies (PNG through stb_image_write).
 
 #include <span>
 #include <string>

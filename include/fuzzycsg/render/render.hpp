@@ -5,7 +5,7 @@
 // Pictures of trees. 3D: the 0.5 level set (mesh.hpp) ray cast with Embree and shaded (two
 // directional lights and an ambient term on smooth vertex normals, 2x2 samples a pixel), from a
 // given camera or from default cameras that frame the shape. 2D: the occupancy with a colour
-// scale and the 0.5 contour; the primitives' outlines over the result (SVG).
+// scale and the 0.5 contour (PNG, SVG or PDF); the primitives' outlines over the result (SVG).
 
 #include <array>
 #include <optional>
@@ -13,6 +13,7 @@
 #include <string>
 
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/io/canvas.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 
 namespace fuzzycsg {
@@ -44,11 +45,18 @@ Camera framing_camera(const TriangleMesh& mesh, double azimuth_deg, double eleva
 std::string render_png(const Tree& tree, std::span<const double> params,
                        const RenderOptions& options);
 
-// A 2D tree's occupancy over its domain as a PNG, in the style of the papers' figures: a
-// colour scale (viridis) from 0 to 1, the 0.5 contour (contours from mesh.hpp) in white, and a
-// labelled colour bar. `size`: pixels along the domain's longer side (16..8192).
-std::string plot_2d_png(const Tree& tree, std::span<const double> params, int size = 600,
-                        int threads = 0);
+struct PlotOptions {
+  int size = 600;  // pixels along the domain's longer side (16..8192)
+  PictureFormat format = PictureFormat::kPng;
+  int threads = 0;
+};
+
+// A 2D tree's occupancy over its domain as a picture (PNG, SVG or PDF; io/canvas.hpp), in the
+// style of the papers' figures: a colour scale (viridis) from 0 to 1, the 0.5 contour (contours
+// from mesh.hpp) in white, and a labelled colour bar. The occupancy is an image of one pixel a
+// sample, in SVG and PDF too.
+std::string plot_2d(const Tree& tree, std::span<const double> params,
+                    const PlotOptions& options = {});
 
 struct OutlineOptions {
   int size = 512;        // pixels along the domain's longer side (64..8192)
