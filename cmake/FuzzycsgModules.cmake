@@ -24,6 +24,10 @@ set(FUZZYCSG_FIND_fmt fmt)
 set(FUZZYCSG_FIND_assimp assimp)
 set(FUZZYCSG_FIND_embree embree 3)
 set(FUZZYCSG_FIND_nanoflann nanoflann)
+# CGAL 5 is header-only; convert uses its shape detection with a double-precision kernel only,
+# so without GMP.
+set(FUZZYCSG_FIND_CGAL CGAL 5.5)
+set(CGAL_DISABLE_GMP ON)
 # OpenCSG drawn headless through Mesa's surfaceless EGL platform (src/opencsg). Debian's
 # libopencsg links GLEW; OpenCSG has no CMake package of its own (cmake/FindOpenCSG.cmake).
 set(FUZZYCSG_FIND_OpenGL OpenGL COMPONENTS OpenGL EGL)

@@ -10,7 +10,7 @@ packages=(
   libeigen3-dev libtbb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
   libassimp-dev libembree-dev libstb-dev libnanoflann-dev libgraphviz-dev libgif-dev
-  libcairo2-dev fonts-dejavu-core
+  libcairo2-dev fonts-dejavu-core libcgal-dev
   openscad
   libopencsg-dev libglew-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
 )
