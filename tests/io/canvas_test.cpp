@@ -5,7 +5,7 @@
 
 #include <array>
 #include <cstdlib>
-#include <regex>
+#include <sstream>
 #include <string>
 
 #include "fuzzycsg/core/error.hpp"
@@ -36,21 +36,30 @@ Decoded decode(const std::string& png) {
   return d;
 }
 
+// The number that follows `key` in `text` from `from` on (-1 when absent), skipping spaces and
+// one opening quote.
+double number_after(const std::string& text, const std::string& key, std::size_t from = 0) {
+  const std::size_t at = text.find(key, from);
+  if (at == std::string::npos) return -1;
+  std::size_t i = at + key.size();
+  while (i < text.size() && (text[i] == ' ' || text[i] == '"')) ++i;
+  return std::atof(text.c_str() + i);
+}
+
 // The width and height an SVG's root element and a PDF's page give, in pixels (points).
 std::array<double, 2> svg_size(const std::string& svg) {
-  std::smatch m;
-  if (!std::regex_search(
-          svg, m, std::regex(R"(<svg[^>]* width="([0-9.]+)(px)?" height="([0-9.]+)(px)?")"))) {
-    return {-1, -1};
-  }
-  return {std::atof(m[1].str().c_str()), std::atof(m[3].str().c_str())};
+  const std::size_t root = svg.find("<svg");
+  if (root == std::string::npos) return {-1, -1};
+  return {number_after(svg, " width=", root), number_after(svg, " height=", root)};
 }
 std::array<double, 2> pdf_size(const std::string& pdf) {
-  std::smatch m;
-  if (!std::regex_search(pdf, m, std::regex(R"(/MediaBox \[ *0 0 ([0-9.]+) ([0-9.]+) *\])"))) {
-    return {-1, -1};
-  }
-  return {std::atof(m[1].str().c_str()), std::atof(m[2].str().c_str())};
+  const std::size_t box = pdf.find("/MediaBox [");
+  if (box == std::string::npos) return {-1, -1};
+  // "/MediaBox [ 0 0 W H ]": the third and fourth numbers.
+  std::istringstream in(pdf.substr(box + 11, 64));
+  double x0 = -1, y0 = -1, w = -1, h = -1;
+  if (!(in >> x0 >> y0 >> w >> h) || x0 != 0 || y0 != 0) return {-1, -1};
+  return {w, h};
 }
 
 Canvas sample_drawing(int w, int h) {
