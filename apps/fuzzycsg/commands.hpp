@@ -31,6 +31,7 @@ Verb register_raster(CLI::App& app);
 Verb register_refine(CLI::App& app);
 Verb register_trace(CLI::App& app);
 Verb register_morph(CLI::App& app);
+Verb register_convert(CLI::App& app);
 
 // A fit as the fit verb runs it (the demo runs one too).
 struct FitJob {

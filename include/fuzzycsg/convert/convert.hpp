@@ -1,12 +1,92 @@
 #pragma once
 // The convert module: a 3D mesh to an editable CSG program of CAD primitives (box, cylinder,
 // cone, sphere, torus, half-space), crisp, in the mesh's own coordinates. This header is its
-// main one.
+// main one (convert, ConvertOptions, ConvertResult); the other:
+//   detect.hpp  detect_surfaces: the planes, cylinders, spheres, cones and tori of a mesh.
 //
-//   detect.hpp  detect_surfaces: the planes, cylinders, spheres, cones and tori of a triangle
-//               mesh (CGAL's Efficient RANSAC, then least-squares refits, merging and the
-//               facets of tessellated curved surfaces given to them).
+// The stages, each timed in the result:
+//   load     the mesh as a target (inside by Embree rays) in a normalised box, and its surface;
+//   detect   the surfaces the part is made of (CGAL's Efficient RANSAC, Schnabel et al. 2007);
+//   search   on a grid of cells labelled inside or outside, laid along the frame most planes
+//            follow: for each connected component of the part, a chain of booleans
+//            ((s1 ∪ s2) \ s3) ∩ s4 ... of solids proposed from the surfaces (boxes between planes,
+//            cylinders and cones with their caps, spheres, tori, half-spaces), chosen greedily
+//            by the cells each move puts right, from several random restarts in parallel, the
+//            best kept and the steps that do not pay for themselves dropped;
+//   refine   the tree's parameters by fuzzy gradient descent (Liu et al. 2024): sigmoid steps
+//            annealed towards crisp, unified operators leaning towards the chosen booleans,
+//            Adam on the squared error at points near the surface; then snapped to booleans
+//            with crisp steps, and kept only when it gets fewer cells wrong than before;
+//   measure  IoU, Chamfer and Hausdorff distances against the target.
 
-#include "fuzzycsg/convert/detect.hpp"
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
 
-namespace fuzzycsg::convert {}  // namespace fuzzycsg::convert
+#include "fuzzycsg/core/transform.hpp"
+#include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/fit/metrics.hpp"
+
+namespace fuzzycsg::convert {
+
+struct ConvertOptions {
+  int max_primitives = 0;   // at most this many leaves (0: as the search finds, up to 32 a part)
+  double time_limit = 300;  // seconds; the search and refinement stop early to keep within it
+  std::uint64_t seed = 0;
+  int threads = 0;         // 0: all hardware threads
+  int resolution = 128;    // grid cells of the search along the part's longest side
+  int restarts = 7;        // random restarts of the search after the greedy one
+  int refine_steps = 400;  // fuzzy refinement steps (0: none)
+  double padding = 0.05;   // the mesh is normalised to [-1 + padding, 1 - padding]
+  MetricsOptions metrics;  // how the result is measured (in the normalised box)
+};
+
+// Throws OptionError naming the field when a setting is out of range.
+void validate(const ConvertOptions& options);
+
+struct StageTime {
+  std::string name;  // "load", "detect", "search", "refine", "measure"
+  double seconds = 0;
+};
+
+struct ConvertProgress {
+  std::string stage;
+  int step = 0, steps = 0;
+  std::optional<double> iou;  // of the best tree so far, when known
+  int primitives = 0;
+};
+
+struct ConvertHooks {
+  std::function<void(const ConvertProgress&)> progress;
+};
+
+struct ConvertResult {
+  Tree tree;           // crisp, in the mesh's coordinates
+  int primitives = 0;  // leaves of `tree`
+  Metrics metrics;     // in the normalised box (chamfer, hausdorff: see below)
+  // Chamfer and Hausdorff distances in the mesh's units.
+  std::optional<double> chamfer, hausdorff;
+  Similarity normalisation;           // the mesh's coordinates to the normalised box
+  std::string target;                 // Target::describe()
+  std::vector<std::string> surfaces;  // the detected surfaces, one line each
+  int components = 0;                 // connected parts found on the grid
+  long long grid_cells = 0, dropped_cells = 0;
+  long long search_error = 0;   // wrong cells of the search's tree
+  long long refine_error = -1;  // wrong cells of the refined tree (-1: not refined)
+  bool refined = false;         // the refined tree was kept
+  std::vector<StageTime> stages;
+  double seconds = 0;
+};
+
+// Converts a closed triangle mesh (OBJ, STL, PLY, OFF). Throws InputError naming the file for
+// unreadable or unsuitable input. Deterministic for a seed and thread count.
+ConvertResult convert(const std::string& path, const ConvertOptions& options = {},
+                      const ConvertHooks& hooks = {});
+
+// report.json: the target, the settings, the measures, the stages' times and the tree's
+// primitives.
+std::string report_json(const ConvertResult& result, const ConvertOptions& options);
+
+}  // namespace fuzzycsg::convert

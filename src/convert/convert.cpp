@@ -1,0 +1,155 @@
+#include "fuzzycsg/convert/convert.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "convert/candidates.hpp"
+#include "convert/program.hpp"
+#include "convert/refine.hpp"
+#include "convert/search.hpp"
+#include "fuzzycsg/convert/detect.hpp"
+#include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/mesh_file.hpp"
+#include "fuzzycsg/target/target.hpp"
+
+namespace fuzzycsg::convert {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+TriangleMesh mapped(TriangleMesh mesh, const Similarity& m) {
+  for (auto& v : mesh.vertices) v = m.apply(v);
+  return mesh;
+}
+
+int count_leaves(const Tree& tree) {
+  int n = 0;
+  for (const Node& node : tree.nodes) n += node.kind == NodeKind::kPrimitive ? 1 : 0;
+  return n;
+}
+
+class Stages {
+ public:
+  Stages(ConvertResult& result, const ConvertHooks& hooks) : result_(result), hooks_(hooks) {}
+  void begin(std::string name) {
+    name_ = std::move(name);
+    start_ = Clock::now();
+    report({});
+  }
+  void end() { result_.stages.push_back({name_, since(start_)}); }
+  void report(std::optional<double> iou, int primitives = 0) const {
+    if (!hooks_.progress) return;
+    ConvertProgress p;
+    p.stage = name_;
+    p.iou = iou;
+    p.primitives = primitives;
+    hooks_.progress(p);
+  }
+
+ private:
+  ConvertResult& result_;
+  const ConvertHooks& hooks_;
+  std::string name_;
+  Clock::time_point start_;
+};
+
+}  // namespace
+
+void validate(const ConvertOptions& o) {
+  if (o.max_primitives < 0) throw OptionError("max_primitives", "must be >= 0");
+  if (!(o.time_limit > 0)) throw OptionError("time_limit", "must be > 0");
+  if (o.resolution < 16 || o.resolution > 512) throw OptionError("resolution", "must be in 16..512");
+  if (o.restarts < 0 || o.restarts > 256) throw OptionError("restarts", "must be in 0..256");
+  if (o.refine_steps < 0) throw OptionError("refine_steps", "must be >= 0");
+  if (!(o.padding >= 0 && o.padding < 0.5)) throw OptionError("padding", "must be in [0, 0.5)");
+  if (o.threads < 0) throw OptionError("threads", "must be >= 0");
+}
+
+ConvertResult convert(const std::string& path, const ConvertOptions& options,
+                      const ConvertHooks& hooks) {
+  validate(options);
+  const Clock::time_point start = Clock::now();
+  ConvertResult result;
+  Stages stages(result, hooks);
+
+  stages.begin("load");
+  TargetOptions target_options;
+  target_options.padding = options.padding;
+  target_options.threads = options.threads;
+  const std::unique_ptr<Target> target = load_target(path, target_options);
+  if (target->kind() != "mesh" || target->dim() != 3) {
+    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF)");
+  }
+  result.target = target->describe();
+  result.normalisation = target->normalisation();
+  const TriangleMesh mesh = mapped(read_mesh_file(path), result.normalisation);
+  stages.end();
+
+  stages.begin("detect");
+  DetectOptions detect_options;
+  detect_options.seed = options.seed;
+  const std::vector<Surface> surfaces = detect_surfaces(mesh, detect_options);
+  for (const Surface& s : surfaces) result.surfaces.push_back(describe_surface(s));
+  stages.end();
+
+  stages.begin("search");
+  const Eigen::Matrix3d frame = dominant_frame(surfaces);
+  const LabelGrid grid = make_label_grid(*target, frame, frame_bounds(mesh, frame),
+                                         options.resolution, 3);
+  result.grid_cells = static_cast<long long>(grid.size());
+  const Candidates candidates = propose_candidates(surfaces, mesh, frame);
+  std::size_t dropped = 0;
+  const std::size_t inside = grid.count(1);
+  const std::vector<LabelGrid> parts =
+      split_components(grid, std::max<std::size_t>(8, inside / 500), 3, dropped);
+  result.dropped_cells = static_cast<long long>(dropped);
+  result.components = static_cast<int>(parts.size());
+  if (parts.empty()) throw InputError(path + ": the mesh encloses no cell of the search grid");
+  SearchOptions search;
+  search.seed = options.seed;
+  search.restarts = options.restarts;
+  if (options.max_primitives > 0) search.max_steps = options.max_primitives;
+  std::vector<Chain> chains;
+  for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
+  const Tree searched = chains_tree(chains);
+  result.search_error = tree_error(searched, grid, options.threads);
+  stages.end();
+
+  Tree best = searched;
+  if (options.refine_steps > 0) {
+    stages.begin("refine");
+    BuildOptions soft;
+    soft.sharpness = 60.0;
+    soft.unified = true;
+    RefineOptions refine;
+    refine.steps = options.refine_steps;
+    refine.seed = options.seed;
+    refine.threads = options.threads;
+    const RefineResult refined = refine_fuzzy(chains_tree(chains, soft), *target, refine);
+    const Tree crisp = crisp_tree(refined.tree);
+    result.refine_error = tree_error(crisp, grid, options.threads);
+    if (result.refine_error < result.search_error) {
+      best = crisp;
+      result.refined = true;
+    }
+    stages.end();
+  }
+
+  stages.begin("measure");
+  result.metrics = measure(best, best.params.values(), *target, options.metrics);
+  const double to_mesh = 1.0 / result.normalisation.scale;
+  if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer * to_mesh;
+  stages.end();
+
+  result.tree = crisp_tree(best, result.normalisation.inverse());
+  result.primitives = count_leaves(result.tree);
+  result.seconds = since(start);
+  return result;
+}
+
+}  // namespace fuzzycsg::convert

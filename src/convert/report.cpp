@@ -1,0 +1,54 @@
+#include <nlohmann/json.hpp>
+
+#include "convert/program.hpp"
+#include "fuzzycsg/convert/convert.hpp"
+
+namespace fuzzycsg::convert {
+
+std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
+  using nlohmann::ordered_json;
+  ordered_json j;
+  j["verb"] = "convert";
+  j["target"] = r.target;
+  j["settings"] = {{"seed", o.seed},
+                   {"threads", o.threads},
+                   {"max_primitives", o.max_primitives},
+                   {"time_limit", o.time_limit},
+                   {"resolution", o.resolution},
+                   {"restarts", o.restarts},
+                   {"refine_steps", o.refine_steps},
+                   {"padding", o.padding},
+                   {"metric_points", o.metrics.points}};
+  ordered_json metrics;
+  metrics["iou"] = r.metrics.iou;
+  metrics["mse"] = r.metrics.mse;
+  metrics["chamfer"] = r.chamfer ? ordered_json(*r.chamfer) : ordered_json(nullptr);
+  metrics["hausdorff"] = r.hausdorff ? ordered_json(*r.hausdorff) : ordered_json(nullptr);
+  metrics["points"] = r.metrics.points;
+  j["metrics"] = metrics;
+  j["primitives"] = r.primitives;
+  ordered_json kinds = ordered_json::object();
+  for (const Solid& s : tree_solids(r.tree)) {
+    const std::string name(solid_kind_name(s.kind));
+    kinds[name] = kinds.value(name, 0) + 1;
+  }
+  j["primitive_kinds"] = kinds;
+  j["normalisation"] = {{"translate", r.normalisation.translate}, {"scale", r.normalisation.scale}};
+  j["surfaces"] = r.surfaces;
+  j["search"] = {{"components", r.components},
+                 {"grid_cells", r.grid_cells},
+                 {"dropped_cells", r.dropped_cells},
+                 {"search_error_cells", r.search_error},
+                 {"refine_error_cells", r.refine_error >= 0 ? ordered_json(r.refine_error) : ordered_json(nullptr)},
+                 {"refined", r.refined}};
+  ordered_json stages = ordered_json::object();
+  for (const StageTime& s : r.stages) stages[s.name] = s.seconds;
+  j["seconds"] = stages;
+  j["seconds"]["total"] = r.seconds;
+  ordered_json solids = ordered_json::array();
+  for (const Solid& s : tree_solids(r.tree)) solids.push_back(s.describe());
+  j["solids"] = solids;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace fuzzycsg::convert
