@@ -350,8 +350,9 @@ int run_fit_job(const FitJob& job) {
                before.operators, after.primitives, after.operators);
     const auto line = [](const char* what, const std::optional<Metrics>& m) {
       if (!m) return;
-      fmt::print("fit: {:<8} MSE {:.5f}  IoU {:.4f}{}\n", what, m->mse, m->iou,
-                 m->chamfer ? fmt::format("  Chamfer {:.5f}", *m->chamfer) : "");
+      fmt::print("fit: {:<8} MSE {:.5f}  IoU {:.4f}{}{}\n", what, m->mse, m->iou,
+                 m->chamfer ? fmt::format("  Chamfer {:.5f}", *m->chamfer) : "",
+                 m->hausdorff ? fmt::format("  Hausdorff {:.5f}", *m->hausdorff) : "");
     };
     line("trained", r.metrics_trained);
     line("pruned", r.metrics_pruned);

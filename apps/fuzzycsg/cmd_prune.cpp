@@ -84,8 +84,9 @@ int run_prune(const PruneArgs& a) {
     const Metrics before = measure(tree, tree.params.values(), *target, mo);
     const Metrics after = measure(pruned, pruned.params.values(), *target, mo);
     for (const auto& [what, m] : {std::pair{"before", before}, std::pair{"after", after}}) {
-      fmt::print("prune: {:<6} MSE {:.5f}  IoU {:.4f}{}\n", what, m.mse, m.iou,
-                 m.chamfer ? fmt::format("  Chamfer {:.5f}", *m.chamfer) : "");
+      fmt::print("prune: {:<6} MSE {:.5f}  IoU {:.4f}{}{}\n", what, m.mse, m.iou,
+                 m.chamfer ? fmt::format("  Chamfer {:.5f}", *m.chamfer) : "",
+                 m.hausdorff ? fmt::format("  Hausdorff {:.5f}", *m.hausdorff) : "");
     }
   }
   io::write_text_file_atomic(a.out, text);

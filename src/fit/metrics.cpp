@@ -1,5 +1,5 @@
 // How well a tree reproduces its target: occupancy MSE and IoU on uniform points, and the
-// Chamfer distance between the tree's 0.5 level set and the target's boundary.
+// Chamfer and Hausdorff distances between the tree's 0.5 level set and the target's boundary.
 #include "fuzzycsg/fit/metrics.hpp"
 
 #include <tbb/parallel_for.h>
@@ -39,28 +39,40 @@ std::vector<float> uniform_cube(int dim, std::size_t n, Rng& rng) {
 using fit_detail::Cloud;
 using fit_detail::KdTree;
 
-// Mean over `queries` of the distance to the nearest of `points`.
-double mean_nearest(const std::vector<float>& queries, const std::vector<float>& points,
-                    std::size_t dim, tbb::task_arena& arena) {
+// Over `queries`, the distance to the nearest of `points`: its mean and its largest value.
+struct NearestDistances {
+  double mean = 0.0;
+  double max = 0.0;
+};
+
+NearestDistances nearest_distances(const std::vector<float>& queries,
+                                   const std::vector<float>& points, std::size_t dim,
+                                   tbb::task_arena& arena) {
   const Cloud cloud{points, dim};
   const KdTree index(static_cast<int>(dim), cloud);
   const std::size_t n = queries.size() / dim;
-  std::vector<double> partial((n + kQueryChunk - 1) / kQueryChunk, 0.0);
+  std::vector<NearestDistances> partial((n + kQueryChunk - 1) / kQueryChunk);
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, partial.size(), [&](std::size_t c) {
-      double sum = 0.0;
+      double sum = 0.0, largest = 0.0;
       for (std::size_t i = c * kQueryChunk; i < std::min(n, (c + 1) * kQueryChunk); ++i) {
         std::uint32_t nearest = 0;
         float d2 = 0.0f;
         index.knnSearch(&queries[i * dim], 1, &nearest, &d2);
-        sum += std::sqrt(static_cast<double>(d2));
+        const double d = std::sqrt(static_cast<double>(d2));
+        sum += d;
+        largest = std::max(largest, d);
       }
-      partial[c] = sum;
+      partial[c] = {sum, largest};
     });
   });
-  double sum = 0.0;
-  for (double s : partial) sum += s;
-  return sum / static_cast<double>(n);
+  NearestDistances out;
+  for (const NearestDistances& p : partial) {
+    out.mean += p.mean;
+    out.max = std::max(out.max, p.max);
+  }
+  out.mean /= static_cast<double>(n);
+  return out;
 }
 
 // Points on the tree's 0.5 level set: occupancy at the vertices of a grid of `resolution`
@@ -154,7 +166,7 @@ Metrics measure(const Tree& tree, std::span<const double> params, const Target& 
   m.iou = either == 0 ? 1.0 : static_cast<double>(both) / static_cast<double>(either);
 
   if (!options.chamfer) return m;
-  // No level set inside the domain (or no boundary to sample): no distance to report.
+  // No level set inside the domain (or no boundary to sample): no distances to report.
   const std::vector<float> surface =
       level_set_points(evaluator, params, options.chamfer_resolution);
   if (surface.empty()) return m;
@@ -163,8 +175,10 @@ Metrics measure(const Tree& tree, std::span<const double> params, const Target& 
   target.sample_boundary(options.chamfer_samples, boundary_rng, boundary, normals);
   if (boundary.empty()) return m;
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  m.chamfer = 0.5 * (mean_nearest(surface, boundary, dim, arena) +
-                     mean_nearest(boundary, surface, dim, arena));
+  const NearestDistances to_target = nearest_distances(surface, boundary, dim, arena);
+  const NearestDistances to_tree = nearest_distances(boundary, surface, dim, arena);
+  m.chamfer = 0.5 * (to_target.mean + to_tree.mean);
+  m.hausdorff = std::max(to_target.max, to_tree.max);
   return m;
 }
 

@@ -205,6 +205,7 @@ json metrics_json(const std::optional<Metrics>& m) {
   if (!m) return nullptr;
   json out{{"mse", m->mse}, {"iou", m->iou}, {"points", m->points}};
   out["chamfer"] = m->chamfer ? json(*m->chamfer) : json(nullptr);
+  out["hausdorff"] = m->hausdorff ? json(*m->hausdorff) : json(nullptr);
   return out;
 }
 

@@ -564,6 +564,11 @@ if "$bin" fit "$tmp/offbox.off" -o "$tmp/offfit" --family box --prims 2 --iters 
 assert abs(n["scale"] - 0.4) < 1e-12 and max(abs(a - b) for a, b in zip(n["translate"], [-4.8, -8.4, 0.2])) < 1e-9
 d=json.load(open(sys.argv[2]))["domain"]; assert abs(d["min"][0] - 9.5) < 1e-9 and abs(d["max"][1] - 23.5) < 1e-9' \
       "$tmp/offfit/report.json" "$tmp/offfit/tree_pruned.json"; then ok; else bad "fit normalisation in report.json"; fi
+  # The Hausdorff distance beside the Chamfer distance, on the same samples: a maximum, not less
+  # than the mean.
+  if python3 -c 'import json,sys; m=json.load(open(sys.argv[1]))["metrics"]
+assert all(m[k]["hausdorff"] >= m[k]["chamfer"] > 0 for k in ("trained", "pruned"))' \
+      "$tmp/offfit/report.json"; then ok; else bad "fit report.json: hausdorff beside chamfer"; fi
   if awk '/^v / { if ($2 < 9.4 || $2 > 14.6 || $3 < 18.4 || $3 > 23.6) bad = 1; n++ }
       END { exit !(n > 0 && !bad) }' "$tmp/offfit/mesh.obj"; then ok; else bad "fit mesh.obj not in the mesh's coordinates"; fi
   if "$bin" prune "$tmp/offfit/tree.json" --target "$tmp/offbox.off" -o "$tmp/offpruned.json" \

@@ -1,5 +1,5 @@
-// Metrics against analytic balls, whose MSE, IoU and Chamfer distance are known in closed form
-// (or by a one-dimensional integral).
+// Metrics against analytic balls, whose MSE, IoU, Chamfer and Hausdorff distances are known in
+// closed form (or by a one-dimensional integral), and against a tree file as its own target.
 #include "fuzzycsg/fit/metrics.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 
 #include "fit/fit_support.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 
 namespace fuzzycsg {
@@ -53,6 +54,7 @@ TEST(Metrics, CrispSphereAgainstTheSameBall) {
   EXPECT_LT(m.mse, 1e-5);
   EXPECT_GT(m.iou, 0.9999);
   EXPECT_FALSE(m.chamfer.has_value());  // not asked for
+  EXPECT_FALSE(m.hausdorff.has_value());
 }
 
 TEST(Metrics, SigmoidSphereMseIsTheSmoothingError) {
@@ -96,10 +98,65 @@ TEST(Metrics, ChamferOfConcentricSpheresIsTheRadiusGap) {
       measure_tree(sphere(0.5, 0, R"("sharpness": 50)"), target, options(10000, true));
   ASSERT_TRUE(m.chamfer.has_value());
   EXPECT_NEAR(*m.chamfer, 0.1, 0.005);
+  // Every point of either sphere is 0.1 from the other: the worst place is the average.
+  ASSERT_TRUE(m.hausdorff.has_value());
+  EXPECT_NEAR(*m.hausdorff, 0.1, 0.01);
+  EXPECT_GE(*m.hausdorff, *m.chamfer);
   const Metrics same =
       measure_tree(sphere(0.6, 0, R"("sharpness": 50)"), target, options(10000, true));
   ASSERT_TRUE(same.chamfer.has_value());
   EXPECT_LT(*same.chamfer, 0.01);
+  // The sampling's error alone: a point of the surface is within a grid cell's diagonal
+  // (sqrt(3) * 2/64) of a crossing on the cell's edges.
+  ASSERT_TRUE(same.hausdorff.has_value());
+  EXPECT_LT(*same.hausdorff, std::sqrt(3.0) * 2.0 / 64);
+}
+
+TEST(Metrics, HausdorffOfShiftedBallsIsTheShift) {
+  // Two balls of radius r, centres d apart: the point of the tree's sphere farthest along the
+  // shift is r + d from the target's centre, d from its sphere, and no point is farther. The
+  // Chamfer distance, a mean, is well below it (about d / 2).
+  const double d = 0.2;
+  const BallTarget target(3, {0, 0, 0}, 0.5);
+  const Metrics m =
+      measure_tree(sphere(0.5, d, R"("sharpness": 50)"), target, options(10000, true));
+  ASSERT_TRUE(m.hausdorff.has_value() && m.chamfer.has_value());
+  EXPECT_NEAR(*m.hausdorff, d, 0.01);
+  EXPECT_LT(*m.chamfer, 0.7 * d);
+  // In 2D the same.
+  const BallTarget disc(2, {0.1, 0}, 0.4);
+  const Tree shifted = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+      "root": {"type": "circle", "radius": 0.4, "translate": [-0.2, 0], "sharpness": 50}})");
+  const Metrics m2 = measure_tree(shifted, disc, options(10000, true));
+  ASSERT_TRUE(m2.hausdorff.has_value());
+  EXPECT_NEAR(*m2.hausdorff, 0.3, 0.01);
+}
+
+TEST(Metrics, HausdorffOfATreeAgainstItselfIsSmall) {
+  // examples/box_with_hole.json's shape (a box less a cylinder, its default domain) as a tree
+  // file target: the tree measured against its own 0.5 level set. The Hausdorff distance is the
+  // sampling's error alone: a point of the surface is within a cell's diagonal (sqrt(3) * 2/128)
+  // of a level-set point on the cell's edges.
+  const std::string text = R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
+      "root": {"op": "difference", "children": [
+        {"type": "box", "size": [1.2, 0.8, 0.4], "sharpness": 80},
+        {"type": "cylinder", "radius": 0.15, "height": 1.0, "rotate": [90, 0, 0]}]}})";
+  const Tree tree = io::read_tree_string(text);
+  const auto target = load_target(testing::write_temp("fuzzycsg_metrics_self.json", text));
+  MetricsOptions o = options(20000, true);
+  o.chamfer_resolution = 128;
+  const Tree normalised = transformed(tree, target->normalisation());
+  const Metrics self = measure_tree(normalised, *target, o);
+  ASSERT_TRUE(self.hausdorff.has_value() && self.chamfer.has_value());
+  EXPECT_LT(*self.hausdorff, std::sqrt(3.0) * 2.0 / 128);
+  EXPECT_LE(*self.chamfer, *self.hausdorff);
+  EXPECT_GT(self.iou, 0.99);
+  // The same tree moved by 0.1 along x: the distance is the move (the box's end faces), not the
+  // sampling's error.
+  const Tree moved = transformed(normalised, Similarity{{0.1, 0, 0}, 1.0});
+  const Metrics shifted = measure_tree(moved, *target, o);
+  ASSERT_TRUE(shifted.hausdorff.has_value());
+  EXPECT_NEAR(*shifted.hausdorff, 0.1, 2.0 / 128);
 }
 
 TEST(Metrics, ChamferInTwoDimensions) {
@@ -118,6 +175,7 @@ TEST(Metrics, NoLevelSetGivesNoChamfer) {
   const Tree outside = sphere(0.2, 5.0, R"("step": "crisp")");
   const Metrics m = measure_tree(outside, BallTarget(3, {0, 0, 0}, 0.5), options(100000, true));
   EXPECT_FALSE(m.chamfer.has_value());
+  EXPECT_FALSE(m.hausdorff.has_value());
   EXPECT_EQ(m.iou, 0.0);
   EXPECT_NEAR(m.mse, 4.0 / 3.0 * std::numbers::pi * 0.125 / 8.0, 0.003);
   // Both empty: IoU 1 by definition.
@@ -135,8 +193,9 @@ TEST(Metrics, DeterministicGivenTheSeed) {
   const Metrics b = measure_tree(t, target, o);
   EXPECT_EQ(a.mse, b.mse);
   EXPECT_EQ(a.iou, b.iou);
-  ASSERT_TRUE(a.chamfer && b.chamfer);
+  ASSERT_TRUE(a.chamfer && b.chamfer && a.hausdorff && b.hausdorff);
   EXPECT_EQ(*a.chamfer, *b.chamfer);
+  EXPECT_EQ(*a.hausdorff, *b.hausdorff);
   o.seed = 6;
   const Metrics c = measure_tree(t, target, o);
   EXPECT_NE(a.mse, c.mse);

@@ -1,37 +1,19 @@
 #include "fuzzycsg/render/render.hpp"
 
 #include <gtest/gtest.h>
-#include <stb_image.h>
 
 #include <memory>
 #include <string>
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "render/render_support.hpp"
 
 namespace fuzzycsg {
 namespace {
 
-struct Image {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-  std::array<int, 3> at(int x, int y) const {
-    const unsigned char* p = rgb.data() + (static_cast<std::size_t>(y) * width + x) * 3;
-    return {p[0], p[1], p[2]};
-  }
-};
-
-Image decode(const std::string& png) {
-  Image im;
-  int channels = 0;
-  unsigned char* data =
-      stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()),
-                            static_cast<int>(png.size()), &im.width, &im.height, &channels, 3);
-  if (data == nullptr) return im;
-  im.rgb.assign(data, data + static_cast<std::size_t>(im.width) * im.height * 3);
-  stbi_image_free(data);
-  return im;
-}
+using testing::decode;
+using testing::Image;
 
 // The root element's size of an SVG of width x height pixels.
 std::string fmt_size(int width, int height) {

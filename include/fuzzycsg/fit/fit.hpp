@@ -4,7 +4,7 @@
 //   init.hpp          starting points that look at the target, and re-seeding.
 //   types.hpp         the search over the types of unified operators.
 //   prune.hpp         prune: redundant nodes removed after snapping.
-//   metrics.hpp       measure: MSE, IoU and Chamfer distance against a target.
+//   metrics.hpp       measure: MSE, IoU, Chamfer and Hausdorff distances against a target.
 //   report.hpp        report.json and the checkpoint a fit resumes from.
 //   option_names.hpp  the names of the settings chosen from a list.
 //   plot.hpp          the loss curve and occupancy pictures.

@@ -2,7 +2,8 @@
 // The target module: shapes to fit, as crisp occupancy with training samplers. This header is
 // its main one (Target, load_target, the samplers); the others:
 //   mesh_file.hpp             read_mesh_file: triangle meshes (core's TriangleMesh) through
-//                             assimp, checked.
+//                             assimp, checked; find_mesh_defects and mesh_defect: whether a
+//                             mesh is closed, manifold and consistently oriented.
 //   picture.hpp               read_picture: pictures as binary masks (stb_image, Netpbm).
 //   signed_distance_grid.hpp  exact signed distance fields of masks.
 //
