@@ -4,7 +4,8 @@
 //
 // A part's mesh as an editable CSG program of CAD primitives (fuzzycsg/convert/convert.hpp).
 // Writes OUTDIR/tree.json (crisp, in the mesh's coordinates), model.scad (OpenSCAD primitives
-// only), report.json, and with the diagram module diagram.svg.
+// only), report.json, render.png (target and result side by side) and, with the diagram
+// module, diagram.svg.
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -19,7 +20,9 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "fuzzycsg/render/render.hpp"
 #include "fuzzycsg/scad/scad.hpp"
+#include "fuzzycsg/target/mesh_file.hpp"
 #if FUZZYCSG_HAVE_DIAGRAM
 #include "fuzzycsg/diagram/diagram.hpp"
 #endif
@@ -27,12 +30,6 @@
 namespace fuzzycsg::app {
 
 namespace {
-
-struct ConvertArgs {
-  std::string target, out;
-  convert::ConvertOptions options;
-  bool quiet = false;
-};
 
 // The stage on stderr: redrawn in place on a terminal, nothing when piped.
 class StagePrinter {
@@ -55,7 +52,9 @@ class StagePrinter {
   bool on_;
 };
 
-int run_convert(const ConvertArgs& a) {
+}  // namespace
+
+int run_convert_job(const ConvertJob& a) {
   if (!std::filesystem::is_regular_file(a.target)) {
     throw InputError(a.target + ": no such file");
   }
@@ -65,32 +64,43 @@ int run_convert(const ConvertArgs& a) {
   const convert::ConvertResult r = convert::convert(a.target, a.options, hooks);
   printer.done();
 
-  prepare_output_dir(a.out);
-  const std::filesystem::path dir(a.out);
+  prepare_output_dir(a.out_dir);
+  const std::filesystem::path dir(a.out_dir);
   io::write_text_file_atomic(dir / "tree.json", io::write_tree_string(r.tree));
   scad::ExportOptions eo;
   eo.threads = a.options.threads;
+  eo.source = std::filesystem::path(a.target).filename().string();
+  eo.writer = "fuzzycsg convert";
+  eo.note = fmt::format("IoU {:.4f} against the mesh{}; settings and measures in report.json.",
+                        r.metrics.iou,
+                        r.chamfer ? fmt::format(", Chamfer distance {:.3g}", *r.chamfer) : "");
   scad::write_scad(r.tree, r.tree.params.values(), dir / "model.scad", eo);
   io::write_text_file_atomic(dir / "report.json", convert::report_json(r, a.options));
+  ComparisonOptions co;
+  co.threads = a.options.threads;
+  co.result_label = fmt::format("convert: {} primitives", r.primitives);
+  io::write_text_file_atomic(
+      dir / "render.png",
+      render_comparison_png(read_mesh_file(a.target), r.tree, r.tree.params.values(), co));
 #if FUZZYCSG_HAVE_DIAGRAM
   write_diagram(r.tree, dir / "diagram.svg");
 #endif
   if (!a.quiet) {
-    fmt::print("convert: {} -> {}: {} primitives, IoU {:.4f}{}, {:.1f} s\n", a.target, a.out,
+    fmt::print("convert: {} -> {}: {} primitives, IoU {:.4f}{}, {:.1f} s\n", a.target, a.out_dir,
                r.primitives, r.metrics.iou,
                r.chamfer ? fmt::format(", Chamfer {:.4g}", *r.chamfer) : "", r.seconds);
+    fmt::print("convert: wrote {}/{{tree.json, model.scad, report.json, render.png{}}}\n",
+               a.out_dir, FUZZYCSG_HAVE_DIAGRAM ? ", diagram.svg" : "");
   }
   return 0;
 }
 
-}  // namespace
-
 Verb register_convert(CLI::App& app) {
-  auto a = std::make_shared<ConvertArgs>();
+  auto a = std::make_shared<ConvertJob>();
   CLI::App* cmd = app.add_subcommand(
       "convert", "A part's mesh as an editable CSG program of CAD primitives (tree, OpenSCAD)");
   cmd->add_option("target", a->target, "Closed triangle mesh (OBJ, STL, PLY, OFF)")->required();
-  cmd->add_option("-o,--output", a->out, "Output directory")->required();
+  cmd->add_option("-o,--output", a->out_dir, "Output directory")->required();
   auto& o = a->options;
   cmd->add_option("--max-primitives", o.max_primitives,
                   "At most this many primitives a part (0: as many as pay for themselves)")
@@ -107,12 +117,13 @@ Verb register_convert(CLI::App& app) {
   cmd->add_option("--metric-points", o.metrics.points, "Uniform points for IoU")
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 28));
+  cmd->add_flag("!--no-tidy", o.tidy, "Keep the fitted numbers: no snapping to axes, no rounding");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress or summary");
   add_threads_option(cmd, o.threads);
   return {cmd, [a] {
             a->options.metrics.threads = a->options.threads;
             a->options.metrics.seed = a->options.seed;
-            return run_convert(*a);
+            return run_convert_job(*a);
           }};
 }
 

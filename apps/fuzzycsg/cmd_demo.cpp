@@ -1,6 +1,9 @@
-// fuzzycsg demo: inverse CSG on a built-in analytic mechanical part (a bracket: a plate and a
-// boss, with a bore and two bolt holes). Writes the part as a tree file, fits 32 quadrics with
-// unified operators to it, prunes, measures and writes every output of `fuzzycsg fit`.
+// fuzzycsg demo: the product's main job on a built-in mechanical part (a bracket: a plate and a
+// boss, with a bore and two bolt holes). Writes the part as a tree file and as a mesh, converts
+// the mesh back to a CSG program of CAD primitives and writes every output of `fuzzycsg convert`.
+//
+// fuzzycsg demo --fit: the paper's inverse CSG on the same part instead: fits 32 quadrics with
+// unified operators to the tree, prunes, measures and writes every output of `fuzzycsg fit`.
 //
 // fuzzycsg demo --gradient: the evaluator's demonstration instead: a box with a cylindrical
 // hole, its volume from integrating the soft occupancy and the derivatives of that volume with
@@ -21,6 +24,7 @@
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "fuzzycsg/mesh/mesh.hpp"
 
 namespace fuzzycsg::app {
 
@@ -34,18 +38,20 @@ constexpr const char* kExample = R"({
 })";
 
 // Units: the domain is [-1, 1]^3; the part spans about [-0.7, 0.7] x [-0.55, 0.45] x [-0.5, 0.5].
+// The leaves' steps are steep sigmoids rather than crisp, so that the mesh of the part's 0.5 level
+// set finds its faces between grid points (a crisp step puts them on the points, in stairs).
 constexpr const char* kPart = R"({
   "format": "fuzzycsg-tree", "version": 1, "dim": 3,
   "root": { "op": "difference", "children": [
     { "op": "union", "children": [
-      { "name": "plate", "type": "box", "size": [1.4, 0.2, 1.0], "translate": [0, -0.45, 0] },
-      { "name": "boss", "type": "cylinder", "radius": 0.32, "height": 0.9,
+      { "name": "plate", "sharpness": 400, "type": "box", "size": [1.4, 0.2, 1.0], "translate": [0, -0.45, 0] },
+      { "name": "boss", "sharpness": 400, "type": "cylinder", "radius": 0.32, "height": 0.9,
         "rotate": [90, 0, 0], "translate": [0, -0.1, 0] } ] },
     { "op": "union", "children": [
-      { "name": "bore", "type": "cylinder", "radius": 0.16, "height": 2.0, "rotate": [90, 0, 0] },
-      { "name": "bolt hole", "type": "cylinder", "radius": 0.09, "height": 1.0,
+      { "name": "bore", "sharpness": 400, "type": "cylinder", "radius": 0.16, "height": 2.0, "rotate": [90, 0, 0] },
+      { "name": "bolt hole", "sharpness": 400, "type": "cylinder", "radius": 0.09, "height": 1.0,
         "rotate": [90, 0, 0], "translate": [0.5, -0.45, 0] },
-      { "name": "bolt hole", "type": "cylinder", "radius": 0.09, "height": 1.0,
+      { "name": "bolt hole", "sharpness": 400, "type": "cylinder", "radius": 0.09, "height": 1.0,
         "rotate": [90, 0, 0], "translate": [-0.5, -0.45, 0] } ] } ] }
 })";
 
@@ -53,13 +59,15 @@ struct DemoArgs {
   int resolution = 128;
   int threads = 0;
   bool gradient = false;
+  bool fit = false;
   std::string out = "fuzzycsg-demo";
   long iters = 20000;
   int prims = 32;
   std::uint64_t seed = 0;
 };
 
-int run_fit_demo(const DemoArgs& a) {
+// Writes the built-in part into the output directory as part.json; returns its path.
+std::filesystem::path write_part(const DemoArgs& a) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(a.out, ec);
@@ -68,6 +76,33 @@ int run_fit_demo(const DemoArgs& a) {
   }
   const fs::path part = fs::path(a.out) / "part.json";
   io::write_tree_file(io::read_tree_string(kPart, "built-in part"), part);
+  return part;
+}
+
+int run_convert_demo(const DemoArgs& a) {
+  const std::filesystem::path part = write_part(a);
+  const Tree tree = io::read_tree_string(kPart, "built-in part");
+  MeshOptions mo;
+  mo.resolution = 160;
+  mo.threads = a.threads;
+  const std::filesystem::path mesh = std::filesystem::path(a.out) / "part.obj";
+  write_mesh(extract_mesh(tree, tree.params.values(), mo), mesh);
+  fmt::print(
+      "demo: the target is a bracket built from 6 primitives ({}), as a mesh ({}); converted "
+      "below to a CSG program\n",
+      part.string(), mesh.string());
+  ConvertJob job;
+  job.target = mesh.string();
+  job.out_dir = a.out;
+  job.options.seed = a.seed;
+  job.options.threads = a.threads;
+  job.options.metrics.threads = a.threads;
+  job.options.metrics.seed = a.seed;
+  return run_convert_job(job);
+}
+
+int run_fit_demo(const DemoArgs& a) {
+  const std::filesystem::path part = write_part(a);
   fmt::print(
       "demo: the target is a bracket built from 6 primitives ({}), fitted below with {} "
       "quadrics\n",
@@ -160,19 +195,27 @@ int run_gradient_demo(const DemoArgs& a) {
 Verb register_demo(CLI::App& app) {
   auto args = std::make_shared<DemoArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "demo", "Fit a built-in mechanical part with fuzzy CSG (or, with --gradient, evaluate one)");
+      "demo",
+      "Convert a built-in mechanical part's mesh to a CSG program (--fit: fit it with fuzzy CSG; "
+      "--gradient: evaluate one)");
   cmd->add_option("-o,--output", args->out, "Output directory")->capture_default_str();
-  cmd->add_option("--iters", args->iters, "Optimisation steps")
+  cmd->add_flag("--fit", args->fit,
+                "Instead: fit quadrics with unified operators to the part (the paper's protocol)");
+  cmd->add_option("--iters", args->iters, "--fit: optimisation steps")
       ->capture_default_str()
       ->check(CLI::Range(0L, 10'000'000L));
-  cmd->add_option("--prims", args->prims, "Quadrics (a power of two)")->capture_default_str();
+  cmd->add_option("--prims", args->prims, "--fit: quadrics (a power of two)")
+      ->capture_default_str();
   cmd->add_option("--seed", args->seed, "Random seed")->capture_default_str();
   cmd->add_flag("--gradient", args->gradient,
                 "Instead: evaluate a box with a hole, its volume and gradient");
   cmd->add_option("--resolution", args->resolution, "--gradient: grid cells per axis")
       ->check(CLI::Range(8, 512));
   add_threads_option(cmd, args->threads);
-  return {cmd, [args] { return args->gradient ? run_gradient_demo(*args) : run_fit_demo(*args); }};
+  return {cmd, [args] {
+            if (args->gradient) return run_gradient_demo(*args);
+            return args->fit ? run_fit_demo(*args) : run_convert_demo(*args);
+          }};
 }
 
 }  // namespace fuzzycsg::app

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzzycsg/convert/convert.hpp"
 #include "fuzzycsg/fit/fit.hpp"
 #include "support.hpp"
 
@@ -47,5 +48,13 @@ struct FitJob {
   std::string command_line;
 };
 int run_fit_job(const FitJob& job);
+
+// A conversion as the convert verb runs it (the demo runs one too).
+struct ConvertJob {
+  std::string target, out_dir;
+  convert::ConvertOptions options;
+  bool quiet = false;
+};
+int run_convert_job(const ConvertJob& job);
 
 }  // namespace fuzzycsg::app

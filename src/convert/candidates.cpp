@@ -79,11 +79,13 @@ void axial_solids(const Surface& s, const TriangleMesh& mesh, const std::vector<
   const Eigen::Vector3d axis = s.direction.normalized();
   std::vector<double> across;
   for (const Surface& p : planes) {
-    if (std::abs(p.direction.normalized().dot(axis)) >= cos_tol) across.push_back(axis.dot(p.point - s.point));
+    if (std::abs(p.direction.normalized().dot(axis)) >= cos_tol)
+      across.push_back(axis.dot(p.point - s.point));
   }
   const auto [m0, m1] = extent_along(mesh, s.point, axis);
   std::vector<double> lows{s.axial_min, m0 - margin}, highs{s.axial_max, m1 + margin};
-  caps_from_planes(across, s.axial_min, s.axial_max, 0.05 * (s.axial_max - s.axial_min), lows, highs);
+  caps_from_planes(across, s.axial_min, s.axial_max, 0.05 * (s.axial_max - s.axial_min), lows,
+                   highs);
   const double eps = 1e-6 * std::max(1.0, m1 - m0);
   dedupe(lows, eps);
   dedupe(highs, eps);
@@ -127,8 +129,8 @@ std::string describe_surface(const Surface& s) {
       text += fmt::format(" r {:.4g} centre {}", s.radius, v(s.point));
       break;
     case SurfaceKind::kCone:
-      text += fmt::format(" half-angle {:.4g} deg axis {} apex {}", s.half_angle * 180.0 / std::numbers::pi,
-                          v(s.direction), v(s.point));
+      text += fmt::format(" half-angle {:.4g} deg axis {} apex {}",
+                          s.half_angle * 180.0 / std::numbers::pi, v(s.direction), v(s.point));
       break;
     case SurfaceKind::kTorus:
       text += fmt::format(" r {:.4g} / {:.4g} axis {} centre {}", s.radius, s.minor_radius,
@@ -197,7 +199,8 @@ Candidates propose_candidates(const std::vector<Surface>& surfaces, const Triang
   }
   for (int a = 0; a < 3; ++a) {
     auto& offsets = c.box_offsets[static_cast<std::size_t>(a)];
-    offsets = {bounds.min()[a], bounds.max()[a], bounds.min()[a] - margin, bounds.max()[a] + margin};
+    offsets = {bounds.min()[a], bounds.max()[a], bounds.min()[a] - margin,
+               bounds.max()[a] + margin};
   }
   for (const Surface& p : planes) {
     const Eigen::Vector3d n = p.direction.normalized();

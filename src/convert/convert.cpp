@@ -1,12 +1,19 @@
 #include "fuzzycsg/convert/convert.hpp"
 
+#include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "convert/candidates.hpp"
 #include "convert/program.hpp"
 #include "convert/refine.hpp"
 #include "convert/search.hpp"
+#include "convert/tidy.hpp"
 #include "fuzzycsg/convert/detect.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/target/mesh_file.hpp"
@@ -63,7 +70,8 @@ class Stages {
 void validate(const ConvertOptions& o) {
   if (o.max_primitives < 0) throw OptionError("max_primitives", "must be >= 0");
   if (!(o.time_limit > 0)) throw OptionError("time_limit", "must be > 0");
-  if (o.resolution < 16 || o.resolution > 512) throw OptionError("resolution", "must be in 16..512");
+  if (o.resolution < 16 || o.resolution > 512)
+    throw OptionError("resolution", "must be in 16..512");
   if (o.restarts < 0 || o.restarts > 256) throw OptionError("restarts", "must be in 0..256");
   if (o.refine_steps < 0) throw OptionError("refine_steps", "must be >= 0");
   if (!(o.padding >= 0 && o.padding < 0.5)) throw OptionError("padding", "must be in [0, 0.5)");
@@ -78,6 +86,17 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   Stages stages(result, hooks);
 
   stages.begin("load");
+  // A surface that bounds no solid would give an inside test that depends on the ray's
+  // direction; refuse it with its defect named rather than convert noise.
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
+    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF)");
+  }
+  TriangleMesh file_mesh = read_mesh_file(path);
+  if (const std::optional<std::string> defect = mesh_defect(file_mesh)) {
+    throw InputError(path + ": " + *defect);
+  }
   TargetOptions target_options;
   target_options.padding = options.padding;
   target_options.threads = options.threads;
@@ -87,20 +106,32 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   }
   result.target = target->describe();
   result.normalisation = target->normalisation();
-  const TriangleMesh mesh = mapped(read_mesh_file(path), result.normalisation);
+  const TriangleMesh mesh = mapped(std::move(file_mesh), result.normalisation);
   stages.end();
 
   stages.begin("detect");
   DetectOptions detect_options;
   detect_options.seed = options.seed;
   const std::vector<Surface> surfaces = detect_surfaces(mesh, detect_options);
-  for (const Surface& s : surfaces) result.surfaces.push_back(describe_surface(s));
+  const Similarity to_mesh_units = result.normalisation.inverse();
+  for (Surface s : surfaces) {  // described in the mesh's units
+    const double k = to_mesh_units.scale;
+    const std::array<double, 3> p = to_mesh_units.apply({s.point[0], s.point[1], s.point[2]});
+    s.point = {p[0], p[1], p[2]};
+    s.radius *= k;
+    s.minor_radius *= k;
+    s.area *= k * k;
+    s.rms *= k;
+    s.axial_min *= k;
+    s.axial_max *= k;
+    result.surfaces.push_back(describe_surface(s));
+  }
   stages.end();
 
   stages.begin("search");
   const Eigen::Matrix3d frame = dominant_frame(surfaces);
-  const LabelGrid grid = make_label_grid(*target, frame, frame_bounds(mesh, frame),
-                                         options.resolution, 3);
+  const LabelGrid grid =
+      make_label_grid(*target, frame, frame_bounds(mesh, frame), options.resolution, 3);
   result.grid_cells = static_cast<long long>(grid.size());
   const Candidates candidates = propose_candidates(surfaces, mesh, frame);
   std::size_t dropped = 0;
@@ -140,13 +171,32 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
     stages.end();
   }
 
-  stages.begin("measure");
-  result.metrics = measure(best, best.params.values(), *target, options.metrics);
-  const double to_mesh = 1.0 / result.normalisation.scale;
-  if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer * to_mesh;
+  stages.begin("tidy");
+  TidyOptions tidy;
+  tidy.threads = options.threads;
+  tidy.enabled = options.tidy;
+  tidy.seed = options.seed;
+  const TidyResult tidied = tidy_solids(best, result.normalisation, *target, grid, tidy);
+  result.tidy_error = tidied.error_after;
+  result.axes_snapped = tidied.axes_snapped;
+  result.values_rounded = tidied.values_rounded;
+  const Domain box = best.domain_or_default();
+  const Similarity to_mesh = result.normalisation.inverse();
+  result.tree =
+      tree_with_solids(best, tidied.solids, Domain{to_mesh.apply(box.min), to_mesh.apply(box.max)});
+  std::vector<Solid> in_box;
+  for (const Solid& s : tidied.solids) in_box.push_back(s.mapped(result.normalisation));
+  best = tree_with_solids(best, in_box, box);
   stages.end();
 
-  result.tree = crisp_tree(best, result.normalisation.inverse());
+  stages.begin("measure");
+  result.metrics = measure(best, best.params.values(), *target, options.metrics);
+  if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer / result.normalisation.scale;
+  if (result.metrics.hausdorff) {
+    result.hausdorff = *result.metrics.hausdorff / result.normalisation.scale;
+  }
+  stages.end();
+
   result.primitives = count_leaves(result.tree);
   result.seconds = since(start);
   return result;

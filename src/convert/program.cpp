@@ -1,6 +1,7 @@
 #include "convert/program.hpp"
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "fuzzycsg/core/error.hpp"
@@ -49,16 +50,12 @@ int combine(TreeBuilder& b, Move move, int left, int right, const BuildOptions& 
                           Number::with_fixed(kOmega, true), {left, right});
 }
 
-int rebuild(const Tree& tree, const std::vector<double>& params, int node, const Similarity& m,
-            TreeBuilder& b) {
+// The tree's structure rebuilt with the leaf solids `solid(node)` and plain booleans.
+int rebuild(const Tree& tree, int node, const std::function<Solid(int)>& solid, TreeBuilder& b) {
   const Node& n = tree.node(node);
-  if (n.kind == NodeKind::kPrimitive) {
-    const std::optional<Solid> s = solid_of_leaf(tree, params, node);
-    if (!s) throw Error("convert: a leaf that is not a solid");
-    return add_leaf(b, s->mapped(m));
-  }
+  if (n.kind == NodeKind::kPrimitive) return add_leaf(b, solid(node));
   std::vector<int> children;
-  for (const int c : n.children) children.push_back(rebuild(tree, params, c, m, b));
+  for (const int c : n.children) children.push_back(rebuild(tree, c, solid, b));
   return b.op(n.op, std::move(children));
 }
 
@@ -94,7 +91,33 @@ Tree crisp_tree(const Tree& tree, const Similarity& m) {
   const Tree snapped = snap_operators(tree);
   const std::vector<double> params = snapped.params.values();
   TreeBuilder b(3);
-  const int root = rebuild(snapped, params, snapped.root, m, b);
+  const int root = rebuild(
+      snapped, snapped.root,
+      [&](int node) {
+        const std::optional<Solid> s = solid_of_leaf(snapped, params, node);
+        if (!s) throw Error("convert: a leaf that is not a solid");
+        return s->mapped(m);
+      },
+      b);
+  // The domain goes with the solids, so that a picture or a mesh of the tree frames the part.
+  const Domain d = tree.domain_or_default();
+  b.set_domain(Domain{m.apply(d.min), m.apply(d.max)});
+  return std::move(b).finish(root, "convert");
+}
+
+Tree tree_with_solids(const Tree& tree, std::span<const Solid> solids, const Domain& domain) {
+  const Tree snapped = snap_operators(tree);
+  std::size_t next = 0;
+  TreeBuilder b(3);
+  const int root = rebuild(
+      snapped, snapped.root,
+      [&](int) {
+        if (next >= solids.size()) throw Error("convert: fewer solids than leaves");
+        return solids[next++];
+      },
+      b);
+  if (next != solids.size()) throw Error("convert: more solids than leaves");
+  b.set_domain(domain);
   return std::move(b).finish(root, "convert");
 }
 
@@ -104,26 +127,45 @@ std::vector<Solid> tree_solids(const Tree& tree) {
   return out;
 }
 
-long long tree_error(const Tree& tree, const LabelGrid& grid, int threads) {
-  std::vector<float> points(3 * grid.size());
+GridScorer::GridScorer(const LabelGrid& grid) : labels_(grid.label) {
+  points_.resize(3 * grid.size());
   for (int k = 0; k < grid.n[2]; ++k) {
     for (int j = 0; j < grid.n[1]; ++j) {
       for (int i = 0; i < grid.n[0]; ++i) {
         const Eigen::Vector3d p = grid.centre_world(i, j, k);
-        const std::size_t c = grid.index(i, j, k);
-        for (int a = 0; a < 3; ++a) points[3 * c + static_cast<std::size_t>(a)] = static_cast<float>(p[a]);
+        const std::size_t c = 3 * grid.index(i, j, k);
+        for (int a = 0; a < 3; ++a)
+          points_[c + static_cast<std::size_t>(a)] = static_cast<float>(p[a]);
       }
     }
   }
-  std::vector<float> occupancy(grid.size());
+}
+
+GridScorer::GridScorer(std::vector<float> points, std::vector<std::uint8_t> labels)
+    : points_(std::move(points)), labels_(std::move(labels)) {
+  if (points_.size() != 3 * labels_.size()) throw Error("convert: points and labels differ");
+}
+
+std::size_t GridScorer::inside() const {
+  std::size_t n = 0;
+  for (const std::uint8_t l : labels_) n += l == 1 ? 1 : 0;
+  return n;
+}
+
+long long GridScorer::error(const Tree& tree, int threads) const {
+  std::vector<float> occupancy(labels_.size());
   const Evaluator evaluator(tree, EvalOptions{threads});
-  evaluator.forward(tree.params.values(), points, occupancy);
+  evaluator.forward(tree.params.values(), points_, occupancy);
   long long error = 0;
-  for (std::size_t c = 0; c < grid.size(); ++c) {
-    if (grid.label[c] == 2) continue;
-    if ((occupancy[c] >= 0.5f ? 1 : 0) != grid.label[c]) ++error;
+  for (std::size_t c = 0; c < labels_.size(); ++c) {
+    if (labels_[c] == 2) continue;
+    if ((occupancy[c] >= 0.5f ? 1 : 0) != labels_[c]) ++error;
   }
   return error;
+}
+
+long long tree_error(const Tree& tree, const LabelGrid& grid, int threads) {
+  return GridScorer(grid).error(tree, threads);
 }
 
 }  // namespace fuzzycsg::convert

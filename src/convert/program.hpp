@@ -3,6 +3,8 @@
 // for refinement), a tree of solids rebuilt crisp in other coordinates, and a tree's count of
 // wrong cells on a grid.
 
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "convert/search.hpp"
@@ -26,10 +28,29 @@ Tree chains_tree(const std::vector<Chain>& chains, const BuildOptions& options =
 // Throws Error for a leaf that is not a solid.
 Tree crisp_tree(const Tree& tree, const Similarity& m = {});
 
+// The structure of `tree` (operators snapped to booleans) with the given solids as its leaves,
+// in pre-order, crisp, over `domain`. Throws Error when the counts differ.
+Tree tree_with_solids(const Tree& tree, std::span<const Solid> solids, const Domain& domain);
+
 // The solids of a tree's leaves, in pre-order.
 std::vector<Solid> tree_solids(const Tree& tree);
 
 // The counted cells of a grid on which the tree's occupancy (>= 0.5) differs from the label.
 long long tree_error(const Tree& tree, const LabelGrid& grid, int threads = 0);
+
+// tree_error for many trees on one grid (the cells' centres computed once), or on any labelled
+// points.
+class GridScorer {
+ public:
+  explicit GridScorer(const LabelGrid& grid);
+  // Points (x, y, z each) with their labels (0 outside, 1 inside, 2 not counted).
+  GridScorer(std::vector<float> points, std::vector<std::uint8_t> labels);
+  long long error(const Tree& tree, int threads = 0) const;
+  std::size_t inside() const;  // points labelled 1
+
+ private:
+  std::vector<float> points_;
+  std::vector<std::uint8_t> labels_;
+};
 
 }  // namespace fuzzycsg::convert

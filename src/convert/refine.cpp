@@ -39,8 +39,10 @@ RefineResult refine_fuzzy(const Tree& tree, const Target& target, const RefineOp
   sampling.surface = 0.3;
   sampling.near = 0.5;
   sampling.near_distance = options.near_distance;
-  const SampleSet pool = draw_samples(target, std::max<std::size_t>(options.pool, 1), sampling, rng);
-  const std::size_t batch = std::min<std::size_t>(static_cast<std::size_t>(std::max(options.batch, 1)), pool.size());
+  const SampleSet pool =
+      draw_samples(target, std::max<std::size_t>(options.pool, 1), sampling, rng);
+  const std::size_t batch =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(options.batch, 1)), pool.size());
 
   const Evaluator evaluator(tree, EvalOptions{options.threads});
   std::vector<double> grad(n), m(n, 0.0), v(n, 0.0);

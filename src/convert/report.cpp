@@ -18,6 +18,7 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
                    {"restarts", o.restarts},
                    {"refine_steps", o.refine_steps},
                    {"padding", o.padding},
+                   {"tidy", o.tidy},
                    {"metric_points", o.metrics.points}};
   ordered_json metrics;
   metrics["iou"] = r.metrics.iou;
@@ -39,8 +40,12 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
                  {"grid_cells", r.grid_cells},
                  {"dropped_cells", r.dropped_cells},
                  {"search_error_cells", r.search_error},
-                 {"refine_error_cells", r.refine_error >= 0 ? ordered_json(r.refine_error) : ordered_json(nullptr)},
-                 {"refined", r.refined}};
+                 {"refine_error_cells",
+                  r.refine_error >= 0 ? ordered_json(r.refine_error) : ordered_json(nullptr)},
+                 {"refined", r.refined},
+                 {"tidy_error_samples", r.tidy_error},
+                 {"axes_snapped", r.axes_snapped},
+                 {"values_rounded", r.values_rounded}};
   ordered_json stages = ordered_json::object();
   for (const StageTime& s : r.stages) stages[s.name] = s.seconds;
   j["seconds"] = stages;

@@ -100,7 +100,8 @@ class SummedTable {
         long long row = 0;
         for (int i = 0; i < g.n[0]; ++i) {
           row += w[g.index(i, j, k)];
-          at(i + 1, j + 1, k + 1) = row + at(i + 1, j, k + 1) + at(i + 1, j + 1, k) - at(i + 1, j, k);
+          at(i + 1, j + 1, k + 1) =
+              row + at(i + 1, j, k + 1) + at(i + 1, j + 1, k) - at(i + 1, j, k);
         }
       }
     }
@@ -108,8 +109,8 @@ class SummedTable {
   // Sum over cells [r0.lo, r0.hi] x [r1.lo, r1.hi] x [r2.lo, r2.hi].
   long long box(const AxisRange& r0, const AxisRange& r1, const AxisRange& r2) const {
     const int x0 = r0.lo, x1 = r0.hi + 1, y0 = r1.lo, y1 = r1.hi + 1, z0 = r2.lo, z1 = r2.hi + 1;
-    return get(x1, y1, z1) - get(x0, y1, z1) - get(x1, y0, z1) - get(x1, y1, z0) +
-           get(x0, y0, z1) + get(x0, y1, z0) + get(x1, y0, z0) - get(x0, y0, z0);
+    return get(x1, y1, z1) - get(x0, y1, z1) - get(x1, y0, z1) - get(x1, y1, z0) + get(x0, y0, z1) +
+           get(x0, y1, z0) + get(x1, y0, z0) - get(x0, y0, z0);
   }
 
  private:
@@ -141,8 +142,9 @@ class TopMoves {
   explicit TopMoves(int size) : size_(static_cast<std::size_t>(std::max(1, size))) {}
   void offer(const ScoredMove& m) {
     if (moves_.size() == size_ && m.gain <= moves_.back().gain) return;
-    auto at = std::upper_bound(moves_.begin(), moves_.end(), m,
-                               [](const ScoredMove& a, const ScoredMove& b) { return a.gain > b.gain; });
+    auto at =
+        std::upper_bound(moves_.begin(), moves_.end(), m,
+                         [](const ScoredMove& a, const ScoredMove& b) { return a.gain > b.gain; });
     moves_.insert(at, m);
     if (moves_.size() > size_) moves_.pop_back();
   }
@@ -199,8 +201,9 @@ class Greedy {
       if (!cells.empty()) listed_.push_back({s, std::move(cells)});
     }
     inside_ = static_cast<long long>(g.count(1));
-    min_gain_ = std::max(options.min_gain_cells,
-                         static_cast<long long>(std::ceil(options.min_gain * static_cast<double>(inside_))));
+    min_gain_ = std::max(
+        options.min_gain_cells,
+        static_cast<long long>(std::ceil(options.min_gain * static_cast<double>(inside_))));
   }
 
   long long min_gain() const { return min_gain_; }
@@ -219,7 +222,8 @@ class Greedy {
     moves.insert(moves.begin(), boxes.moves().begin(), boxes.moves().end());
     std::stable_sort(moves.begin(), moves.end(),
                      [](const ScoredMove& a, const ScoredMove& b) { return a.gain > b.gain; });
-    if (moves.size() > static_cast<std::size_t>(count)) moves.resize(static_cast<std::size_t>(count));
+    if (moves.size() > static_cast<std::size_t>(count))
+      moves.resize(static_cast<std::size_t>(count));
     return moves;
   }
 
@@ -285,7 +289,8 @@ class Greedy {
     return static_cast<double>(lost) <= options_.max_loss * static_cast<double>(w.total_t);
   }
 
-  void offer_carving(const Weights& w, long long d, long long t, ScoredMove m, TopMoves& top) const {
+  void offer_carving(const Weights& w, long long d, long long t, ScoredMove m,
+                     TopMoves& top) const {
     if (!w.any) return;
     if (keeps_enough(w, t)) {
       m.gain = d;
@@ -408,7 +413,8 @@ LabelGrid make_label_grid(const Target& target, const Eigen::Matrix3d& frame,
       for (int i = 0; i < g.n[0]; ++i) {
         const Eigen::Vector3d p = g.centre_world(i, j, k);
         const std::size_t c = g.index(i, j, k);
-        for (int a = 0; a < 3; ++a) points[3 * c + static_cast<std::size_t>(a)] = static_cast<float>(p[a]);
+        for (int a = 0; a < 3; ++a)
+          points[3 * c + static_cast<std::size_t>(a)] = static_cast<float>(p[a]);
       }
     }
   }
@@ -447,12 +453,16 @@ std::vector<LabelGrid> split_components(const LabelGrid& grid, std::size_t min_c
       f.cells.push_back(c);
       const std::array<int, 3> p = coords(c);
       for (int a = 0; a < 3; ++a) {
-        f.lo[static_cast<std::size_t>(a)] = std::min(f.lo[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(a)]);
-        f.hi[static_cast<std::size_t>(a)] = std::max(f.hi[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(a)]);
+        f.lo[static_cast<std::size_t>(a)] =
+            std::min(f.lo[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(a)]);
+        f.hi[static_cast<std::size_t>(a)] =
+            std::max(f.hi[static_cast<std::size_t>(a)], p[static_cast<std::size_t>(a)]);
         for (int d = -1; d <= 1; d += 2) {
           std::array<int, 3> q = p;
           q[static_cast<std::size_t>(a)] += d;
-          if (q[static_cast<std::size_t>(a)] < 0 || q[static_cast<std::size_t>(a)] >= grid.n[static_cast<std::size_t>(a)]) continue;
+          if (q[static_cast<std::size_t>(a)] < 0 ||
+              q[static_cast<std::size_t>(a)] >= grid.n[static_cast<std::size_t>(a)])
+            continue;
           const std::size_t qc = grid.index(q[0], q[1], q[2]);
           if (grid.label[qc] == 1 && component[qc] < 0) {
             component[qc] = id;
@@ -482,7 +492,8 @@ std::vector<LabelGrid> split_components(const LabelGrid& grid, std::size_t min_c
       lo[a] = std::max(0, f.lo[a] - margin_cells);
       hi[a] = std::min(grid.n[a] - 1, f.hi[a] + margin_cells);
       sub.n[a] = hi[a] - lo[a] + 1;
-      sub.origin[static_cast<Eigen::Index>(a)] = grid.origin[static_cast<Eigen::Index>(a)] + lo[a] * grid.cell;
+      sub.origin[static_cast<Eigen::Index>(a)] =
+          grid.origin[static_cast<Eigen::Index>(a)] + lo[a] * grid.cell;
     }
     sub.label.resize(static_cast<std::size_t>(sub.n[0]) * sub.n[1] * sub.n[2]);
     for (int k = 0; k < sub.n[2]; ++k) {
@@ -528,7 +539,8 @@ Chain search_chain(const LabelGrid& grid, const Candidates& candidates,
   std::vector<Chain> chains(static_cast<std::size_t>(runs));
   tbb::parallel_for(0, runs, [&](int r) {
     std::mt19937_64 random(options.seed * 1000003ULL + static_cast<std::uint64_t>(r));
-    const ScoredMove* first = r >= 1 && r < fixed ? &firsts[static_cast<std::size_t>(r - 1)] : nullptr;
+    const ScoredMove* first =
+        r >= 1 && r < fixed ? &firsts[static_cast<std::size_t>(r - 1)] : nullptr;
     std::vector<ChainStep> steps = greedy.run(r < fixed ? nullptr : &random, first);
     steps = eliminate(grid, std::move(steps), greedy.min_gain());
     Chain& c = chains[static_cast<std::size_t>(r)];

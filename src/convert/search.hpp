@@ -40,9 +40,7 @@ struct LabelGrid {
   Eigen::Vector3d centre_frame(int i, int j, int k) const {
     return origin + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
   }
-  Eigen::Vector3d centre_world(int i, int j, int k) const {
-    return frame * centre_frame(i, j, k);
-  }
+  Eigen::Vector3d centre_world(int i, int j, int k) const { return frame * centre_frame(i, j, k); }
   std::size_t count(std::uint8_t value) const;
 };
 
@@ -77,13 +75,13 @@ struct ChainStep {
 
 struct Chain {
   std::vector<ChainStep> steps;
-  long long error = 0;  // counted cells labelled differently from the chain's solid
+  long long error = 0;   // counted cells labelled differently from the chain's solid
   long long inside = 0;  // counted inside cells
 };
 
 struct SearchOptions {
-  int max_steps = 32;         // moves in a chain
-  double min_gain = 5e-4;     // a move must put right this fraction of the inside cells ...
+  int max_steps = 32;            // moves in a chain
+  double min_gain = 5e-4;        // a move must put right this fraction of the inside cells ...
   long long min_gain_cells = 8;  // ... and at least this many
   // Restarts after the first, greedy, one: each picks at random among the moves within
   // `tolerance` of the best gain.

@@ -901,14 +901,18 @@ std::string export_scad(const Tree& tree, std::span<const double> params,
 
   std::string s;
   const std::string source = options.source.empty() ? "a tree" : comment_text(options.source);
-  s +=
-      fmt::format("// {} ({}D, {} lea{}, {} operator{}) as OpenSCAD, written by fuzzycsg export.\n",
-                  source, tree.dim, rep.leaves, rep.leaves == 1 ? "f" : "ves", rep.operators,
-                  rep.operators == 1 ? "" : "s");
-  s += "// The crisp counterpart of the tree: every leaf is its set f < 0 and every operator the\n"
-       "// crisp boolean of the same kind (unified operators snapped to their largest weight),\n"
-       "// whatever the tree's steps, sharpnesses and logic families: a soft tree is exported as\n"
-       "// its crisp counterpart.\n";
+  s += fmt::format("// {} ({}D, {} lea{}, {} operator{}) as OpenSCAD, written by {}.\n", source,
+                   tree.dim, rep.leaves, rep.leaves == 1 ? "f" : "ves", rep.operators,
+                   rep.operators == 1 ? "" : "s", options.writer);
+  if (!options.note.empty()) {
+    s += "// " + comment_text(options.note) + "\n";
+  } else {
+    s +=
+        "// The crisp counterpart of the tree: every leaf is its set f < 0 and every operator the\n"
+        "// crisp boolean of the same kind (unified operators snapped to their largest weight),\n"
+        "// whatever the tree's steps, sharpnesses and logic families: a soft tree is exported as\n"
+        "// its crisp counterpart.\n";
+  }
   if (rep.quadric_leaves > 0) {
     std::string kinds;
     for (const auto& [k, count] : rep.quadric_kinds)
@@ -931,11 +935,14 @@ std::string export_scad(const Tree& tree, std::span<const double> params,
       "// Domain {}; {}.\n", extent,
       rep.clipped ? "the model is intersected with it" : "the model is not clipped to it");
   s += fmt::format("$fn = {};\n\n", options.fn);
-  s += "// The tree's domain, and the cover (the domain grown by 10% on every side) that stands\n"
-       "// in for all of space in complements and cuts unbounded sets.\n";
-  s += box_module("fuzzycsg_domain", domain, tree.dim);
-  s += box_module("fuzzycsg_space", w.cover, tree.dim);
-  s += "\n";
+  // The boxes only where the program uses them.
+  if (w.unbounded || rep.clipped) {
+    s += "// The tree's domain, and the cover (the domain grown by 10% on every side) that stands\n"
+         "// in for all of space in complements and cuts unbounded sets.\n";
+    s += box_module("fuzzycsg_domain", domain, tree.dim);
+    s += box_module("fuzzycsg_space", w.cover, tree.dim);
+    s += "\n";
+  }
   if (rep.clipped) {
     Lines clip;
     clip.add(0, "intersection() {");

@@ -45,15 +45,15 @@ fi
 if "$bin" info "$tmp/sphere.json" | grep -qE "primitives +2" &&
     "$bin" info "$tmp/sphere.json" --json | grep -q '"dim": 3'; then ok; else bad "info"; fi
 
-# demo --gradient evaluates and reports the volume; demo fits the built-in part.
+# demo --gradient evaluates and reports the volume; demo --fit fits the built-in part.
 if "$bin" demo --gradient --resolution 32 | grep -q "volume"; then ok; else bad "demo --gradient"; fi
-if "$bin" demo -o "$tmp/demo" --iters 300 --prims 8 --threads 2 >"$tmp/demo.log" 2>&1 &&
+if "$bin" demo --fit -o "$tmp/demo" --iters 300 --prims 8 --threads 2 >"$tmp/demo.log" 2>&1 &&
     [[ -s "$tmp/demo/tree.json" && -s "$tmp/demo/tree_pruned.json" && -s "$tmp/demo/report.json" &&
        -s "$tmp/demo/loss.png" && -s "$tmp/demo/part.json" && -s "$tmp/demo/mesh.obj" &&
        -s "$tmp/demo/render.png" ]] && grep -q "mesh.obj, render.png}" "$tmp/demo.log"; then
   ok
 else
-  bad "demo: $(tail -5 "$tmp/demo.log")"
+  bad "demo --fit: $(tail -5 "$tmp/demo.log")"
 fi
 
 # fit: a 2D tree target, all outputs, the report's fields, the trees read back.
@@ -713,6 +713,51 @@ then ok; else bad "gradient images: $g1 / $g2"; fi
 expect_error "has no parameter \"radius\"" "$bin" raster "$tmp/prog.json" -o "$tmp/g3.png" \
   --gradient radius
 [[ -e "$tmp/g3.png" ]] && bad "raster --gradient error left a file" || ok
+
+# convert: the demo's bracket (6 primitives) comes back as a crisp program of at most 8 CAD
+# primitives at IoU >= 0.98, with every output; OpenSCAD primitives only.
+if "$bin" demo -o "$tmp/cdemo" --threads 2 >"$tmp/cdemo.log" 2>&1 &&
+    python3 - "$tmp/cdemo" <<'PY'
+import json, sys
+d = sys.argv[1]
+r = json.load(open(d + "/report.json"))
+assert r["metrics"]["iou"] >= 0.98 and 1 <= r["primitives"] <= 8, r["metrics"]
+assert r["metrics"]["chamfer"] is not None and r["metrics"]["hausdorff"] is not None
+t = json.load(open(d + "/tree.json"))
+def walk(n):
+    if "children" in n:
+        assert n["op"] in ("union", "intersection", "difference"), n
+        for c in n["children"]: walk(c)
+    else:
+        assert n["type"] in ("box", "cylinder", "cone", "sphere", "torus", "plane"), n
+        assert "sharpness" not in n, n
+walk(t["root"])
+scad = open(d + "/model.scad").read()
+assert "polyhedron" not in scad and "written by fuzzycsg convert" in scad
+for f in ("render.png", "part.obj", "part.json"):
+    assert open(d + "/" + f, "rb").read(4), f
+PY
+then ok; else bad "demo (convert): $(tail -5 "$tmp/cdemo.log")"; fi
+# The same seed and thread count give the same tree; the tree sits where the mesh does.
+hole="$src/tests/data/meshes/cad/cgal_hole.off"
+if "$bin" convert "$hole" -o "$tmp/cv1" --seed 3 --threads 2 -q &&
+    "$bin" convert "$hole" -o "$tmp/cv2" --seed 3 --threads 2 -q &&
+    cmp -s "$tmp/cv1/tree.json" "$tmp/cv2/tree.json" && cmp -s "$tmp/cv1/model.scad" "$tmp/cv2/model.scad" &&
+    python3 - "$tmp/cv1" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1] + "/report.json"))
+assert r["metrics"]["iou"] >= 0.95 and r["primitives"] <= 4, r
+PY
+then ok; else bad "convert: not deterministic, or a poor result"; fi
+# Bad input: one line, exit 2, nothing written.
+expect_error "no-such.off: no such file" "$bin" convert "$tmp/no-such.off" -o "$tmp/cvbad"
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$tmp/open.off"
+expect_error "open.off: mesh is open: 3 boundary edges" "$bin" convert "$tmp/open.off" -o "$tmp/cvbad"
+printf 'OFF\n0 0 0\n' >"$tmp/nothing.off"
+expect_error "nothing.off" "$bin" convert "$tmp/nothing.off" -o "$tmp/cvbad"
+expect_error "sphere.json: convert takes a 3D mesh" "$bin" convert "$tmp/sphere.json" -o "$tmp/cvbad"
+expect_error "--resolution" "$bin" convert "$hole" -o "$tmp/cvbad" --resolution 3
+[[ -e "$tmp/cvbad" ]] && bad "convert: a refused input left an output directory" || ok
 
 echo "$pass passed, $fail failed"
 [[ $fail -eq 0 ]]

@@ -41,7 +41,7 @@ TEST(ConvertSolid, EulerAnglesRoundTrip) {
 
 TEST(ConvertSolid, RotationWithZIsARightHandedFrame) {
   for (const Eigen::Vector3d& axis : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0),
-                                     Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 2, 3)}) {
+                                      Eigen::Vector3d(0, -1, 0), Eigen::Vector3d(1, 2, 3)}) {
     const Eigen::Matrix3d r = rotation_with_z(axis);
     EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-12);
     EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
@@ -123,7 +123,8 @@ TEST(ConvertSolid, MappedSolidsFollowTheMap) {
 
 // A box with a hole through it, as a tree target: the search finds the box and the hole.
 TEST(ConvertSearch, FindsABoxWithAHole) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "fuzzycsg_convert_search";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "fuzzycsg_convert_search";
   std::filesystem::create_directories(dir);
   const std::filesystem::path file = dir / "box_hole.json";
   std::ofstream(file) << R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3,
@@ -131,7 +132,8 @@ TEST(ConvertSearch, FindsABoxWithAHole) {
       {"type": "box", "size": [1.2, 0.8, 0.4], "step": "crisp"},
       {"type": "cylinder", "radius": 0.15, "height": 1.0, "rotate": [90, 0, 0], "step": "crisp"}]}})";
   const std::unique_ptr<Target> target = load_target(file.string());
-  const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-0.6, -0.4, -0.2), Eigen::Vector3d(0.6, 0.4, 0.2));
+  const Eigen::AlignedBox3d bounds(Eigen::Vector3d(-0.6, -0.4, -0.2),
+                                   Eigen::Vector3d(0.6, 0.4, 0.2));
   const LabelGrid grid = make_label_grid(*target, Eigen::Matrix3d::Identity(), bounds, 64, 2);
   ASSERT_GT(grid.count(1), 1000u);
 

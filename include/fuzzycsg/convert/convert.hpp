@@ -17,6 +17,8 @@
 //            annealed towards crisp, unified operators leaning towards the chosen booleans,
 //            Adam on the squared error at points near the surface; then snapped to booleans
 //            with crisp steps, and kept only when it gets fewer cells wrong than before;
+//   tidy     axes within a few degrees of the world's snapped to them, and lengths and
+//            coordinates rounded in the mesh's units as coarsely as the grid's error allows;
 //   measure  IoU, Chamfer and Hausdorff distances against the target.
 
 #include <cstdint>
@@ -40,6 +42,7 @@ struct ConvertOptions {
   int restarts = 7;        // random restarts of the search after the greedy one
   int refine_steps = 400;  // fuzzy refinement steps (0: none)
   double padding = 0.05;   // the mesh is normalised to [-1 + padding, 1 - padding]
+  bool tidy = true;        // snap axes and round numbers where it costs (almost) nothing
   MetricsOptions metrics;  // how the result is measured (in the normalised box)
 };
 
@@ -47,7 +50,7 @@ struct ConvertOptions {
 void validate(const ConvertOptions& options);
 
 struct StageTime {
-  std::string name;  // "load", "detect", "search", "refine", "measure"
+  std::string name;  // "load", "detect", "search", "refine", "tidy", "measure"
   double seconds = 0;
 };
 
@@ -76,6 +79,9 @@ struct ConvertResult {
   long long search_error = 0;   // wrong cells of the search's tree
   long long refine_error = -1;  // wrong cells of the refined tree (-1: not refined)
   bool refined = false;         // the refined tree was kept
+  long long tidy_error = 0;     // wrong samples of the tidy stage, after it
+  int axes_snapped = 0;         // solids turned onto the world's axes
+  int values_rounded = 0;       // numbers rounded coarser than a thousandth of the part
   std::vector<StageTime> stages;
   double seconds = 0;
 };

@@ -127,8 +127,11 @@ struct ExportOptions {
   int resolution = 32;  // meshed leaves: cells along the domain's longest side
   ClassifyOptions classify;
   Clip clip = Clip::kAuto;
-  std::string source;  // named in the header comment (usually the tree file)
-  int threads = 0;     // meshing threads (0: all)
+  std::string source;                      // named in the header comment (usually the tree file)
+  std::string writer = "fuzzycsg export";  // named in the header comment
+  // The header's second sentence (one line); empty: what a crisp counterpart is.
+  std::string note;
+  int threads = 0;  // meshing threads (0: all)
 };
 
 struct LeafReport {

@@ -1,0 +1,213 @@
+#include "convert/tidy.hpp"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <utility>
+
+namespace fuzzycsg::convert {
+
+namespace {
+
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+// The world axis (0, 1, 2) and sign that `v` (unit) is within `max_deg` of, if any.
+std::optional<std::pair<int, double>> near_axis(const Eigen::Vector3d& v, double max_deg) {
+  int axis = 0;
+  v.cwiseAbs().maxCoeff(&axis);
+  const double angle = std::acos(std::min(1.0, std::abs(v[axis]))) * kDeg;
+  if (angle > max_deg) return std::nullopt;
+  return std::pair{axis, v[axis] < 0 ? -1.0 : 1.0};
+}
+
+// The solid with its axes on the world's, or nullopt when they are not within `max_deg`.
+std::optional<Solid> axis_snapped(const Solid& s, double max_deg) {
+  Solid out = s;
+  switch (s.kind) {
+    case SolidKind::kBox: {
+      std::array<bool, 3> used{false, false, false};
+      for (int c = 0; c < 3; ++c) {
+        const auto a = near_axis(s.rotation.col(c), max_deg);
+        if (!a || used[static_cast<std::size_t>(a->first)]) return std::nullopt;
+        used[static_cast<std::size_t>(a->first)] = true;
+        out.size[a->first] = s.size[c];
+      }
+      out.rotation.setIdentity();
+      break;
+    }
+    case SolidKind::kCylinder:
+    case SolidKind::kCone:
+    case SolidKind::kTorus:
+    case SolidKind::kHalfSpace: {
+      const auto a = near_axis(s.rotation.col(2), max_deg);
+      if (!a) return std::nullopt;
+      double sign = a->second;
+      // A cylinder's or a torus's axis has no direction; a cone's radii swap ends instead.
+      if (s.kind == SolidKind::kCone && sign < 0) std::swap(out.size[0], out.size[1]);
+      if (s.kind != SolidKind::kHalfSpace) sign = 1.0;
+      out.rotation = rotation_with_z(sign * Eigen::Vector3d::Unit(a->first));
+      break;
+    }
+    case SolidKind::kSphere:
+      return std::nullopt;
+  }
+  if (out.rotation.isApprox(s.rotation, 1e-12)) return std::nullopt;  // already on the axes
+  return out;
+}
+
+// The numbers of a solid that are rounded: pointers into it, with whether each must stay > 0.
+std::vector<std::pair<double*, bool>> numbers_of(Solid& s) {
+  std::vector<std::pair<double*, bool>> out;
+  switch (s.kind) {
+    case SolidKind::kBox:
+      for (int a = 0; a < 3; ++a) out.emplace_back(&s.size[a], true);
+      break;
+    case SolidKind::kCylinder:
+      out.emplace_back(&s.size[0], true);
+      out.emplace_back(&s.size[2], true);
+      break;
+    case SolidKind::kCone:
+      out.emplace_back(&s.size[0], false);
+      out.emplace_back(&s.size[1], false);
+      out.emplace_back(&s.size[2], true);
+      break;
+    case SolidKind::kSphere:
+      out.emplace_back(&s.size[0], true);
+      break;
+    case SolidKind::kTorus:
+      out.emplace_back(&s.size[0], true);
+      out.emplace_back(&s.size[1], true);
+      break;
+    case SolidKind::kHalfSpace:
+      out.emplace_back(&s.size[0], false);
+      return out;  // no centre
+  }
+  for (int a = 0; a < 3; ++a) out.emplace_back(&s.centre[a], false);
+  return out;
+}
+
+GridScorer sample(const Target& target, const LabelGrid& grid, const TidyOptions& options) {
+  // Uniform random points over the grid's box, not its cells' centres: a change smaller than a
+  // cell moves a face across whole layers of centres at once, which would judge it by aliasing.
+  Rng rng(options.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<float> points(3 * options.points);
+  for (std::size_t p = 0; p < options.points; ++p) {
+    const Eigen::Vector3d f =
+        grid.origin + grid.cell * Eigen::Vector3d(u(rng) * grid.n[0], u(rng) * grid.n[1],
+                                                  u(rng) * grid.n[2]);
+    const Eigen::Vector3d w = grid.frame * f;
+    for (int a = 0; a < 3; ++a) points[3 * p + static_cast<std::size_t>(a)] = static_cast<float>(w[a]);
+  }
+  std::vector<float> occupancy(options.points);
+  target.occupancy(points, occupancy);
+  std::vector<std::uint8_t> labels(options.points);
+  for (std::size_t p = 0; p < options.points; ++p) labels[p] = occupancy[p] >= 0.5f ? 1 : 0;
+  return GridScorer(std::move(points), std::move(labels));
+}
+
+class Tidier {
+ public:
+  Tidier(const Tree& tree, const Similarity& normalisation, const Target& target,
+         const LabelGrid& grid, const TidyOptions& options)
+      : tree_(tree),
+        normalisation_(normalisation),
+        scorer_(sample(target, grid, options)),
+        options_(options) {
+    const long long inside = static_cast<long long>(scorer_.inside());
+    step_ = static_cast<long long>(options.step_tolerance * static_cast<double>(inside));
+    total_ = static_cast<long long>(options.total_tolerance * static_cast<double>(inside));
+  }
+
+  long long error(const std::vector<Solid>& mesh_solids) const {
+    std::vector<Solid> box;
+    box.reserve(mesh_solids.size());
+    for (const Solid& s : mesh_solids) box.push_back(s.mapped(normalisation_));
+    return scorer_.error(tree_with_solids(tree_, box, tree_.domain_or_default()),
+                         options_.threads);
+  }
+
+  // Keeps `candidate` in place of solids[i] when the error allows it.
+  bool try_solid(std::vector<Solid>& solids, std::size_t i, const Solid& candidate) {
+    const Solid old = solids[i];
+    solids[i] = candidate;
+    const long long e = error(solids);
+    if (e <= current_ + step_ && e <= before_ + total_) {
+      current_ = e;
+      return true;
+    }
+    solids[i] = old;
+    return false;
+  }
+
+  void set_before(long long e) { before_ = current_ = e; }
+  long long current() const { return current_; }
+
+ private:
+  const Tree& tree_;
+  Similarity normalisation_;
+  GridScorer scorer_;
+  TidyOptions options_;
+  long long step_ = 0, total_ = 0, before_ = 0, current_ = 0;
+};
+
+}  // namespace
+
+TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const Target& target,
+                       const LabelGrid& grid, const TidyOptions& options) {
+  TidyResult result;
+  const Similarity to_mesh = normalisation.inverse();
+  for (const Solid& s : tree_solids(tree)) result.solids.push_back(s.mapped(to_mesh));
+  std::vector<Solid>& solids = result.solids;
+
+  Tidier tidier(tree, normalisation, target, grid, options);
+  result.error_before = tidier.error(solids);
+  tidier.set_before(result.error_before);
+  result.error_after = result.error_before;
+  if (!options.enabled) return result;
+
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    if (const std::optional<Solid> s = axis_snapped(solids[i], options.snap_angle_deg)) {
+      result.axes_snapped += tidier.try_solid(solids, i, *s) ? 1 : 0;
+    }
+  }
+
+  // The quanta, coarse to fine, from a tenth of the part's size (the grid's long side) down.
+  const double extent =
+      grid.cell * static_cast<double>(std::max({grid.n[0], grid.n[1], grid.n[2]})) /
+      normalisation.scale;
+  const double top = std::pow(10.0, std::floor(std::log10(extent)) - 1.0);
+  const std::array<double, 5> quanta{top, top / 2, top / 10, top / 20, top / 100};
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const std::size_t count = numbers_of(solids[i]).size();
+    for (std::size_t k = 0; k < count; ++k) {
+      bool done = false;
+      for (std::size_t q = 0; q + 1 < quanta.size() && !done; ++q) {
+        Solid candidate = solids[i];
+        const auto [value, positive] = numbers_of(candidate)[k];
+        const double rounded = std::round(*value / quanta[q]) * quanta[q];
+        if (positive && rounded <= 0) continue;
+        if (rounded == *value) {
+          done = true;
+          break;
+        }
+        *value = rounded;
+        if (tidier.try_solid(solids, i, candidate)) {
+          ++result.values_rounded;
+          done = true;
+        }
+      }
+      if (done) continue;
+      // The finest quantum always: a thousandth of the part, far below the grid's cell.
+      const auto [value, positive] = numbers_of(solids[i])[k];
+      const double rounded = std::round(*value / quanta.back()) * quanta.back();
+      if (!positive || rounded > 0) *value = rounded;
+    }
+  }
+  result.error_after = tidier.error(solids);
+  return result;
+}
+
+}  // namespace fuzzycsg::convert
