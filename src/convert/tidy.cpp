@@ -96,10 +96,11 @@ GridScorer sample(const Target& target, const LabelGrid& grid, const TidyOptions
   std::vector<float> points(3 * options.points);
   for (std::size_t p = 0; p < options.points; ++p) {
     const Eigen::Vector3d f =
-        grid.origin + grid.cell * Eigen::Vector3d(u(rng) * grid.n[0], u(rng) * grid.n[1],
-                                                  u(rng) * grid.n[2]);
+        grid.origin +
+        grid.cell * Eigen::Vector3d(u(rng) * grid.n[0], u(rng) * grid.n[1], u(rng) * grid.n[2]);
     const Eigen::Vector3d w = grid.frame * f;
-    for (int a = 0; a < 3; ++a) points[3 * p + static_cast<std::size_t>(a)] = static_cast<float>(w[a]);
+    for (int a = 0; a < 3; ++a)
+      points[3 * p + static_cast<std::size_t>(a)] = static_cast<float>(w[a]);
   }
   std::vector<float> occupancy(options.points);
   target.occupancy(points, occupancy);
@@ -125,8 +126,7 @@ class Tidier {
     std::vector<Solid> box;
     box.reserve(mesh_solids.size());
     for (const Solid& s : mesh_solids) box.push_back(s.mapped(normalisation_));
-    return scorer_.error(tree_with_solids(tree_, box, tree_.domain_or_default()),
-                         options_.threads);
+    return scorer_.error(tree_with_solids(tree_, box, tree_.domain_or_default()), options_.threads);
   }
 
   // Keeps `candidate` in place of solids[i] when the error allows it.
@@ -175,9 +175,9 @@ TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const 
   }
 
   // The quanta, coarse to fine, from a tenth of the part's size (the grid's long side) down.
-  const double extent =
-      grid.cell * static_cast<double>(std::max({grid.n[0], grid.n[1], grid.n[2]})) /
-      normalisation.scale;
+  const double extent = grid.cell *
+                        static_cast<double>(std::max({grid.n[0], grid.n[1], grid.n[2]})) /
+                        normalisation.scale;
   const double top = std::pow(10.0, std::floor(std::log10(extent)) - 1.0);
   const std::array<double, 5> quanta{top, top / 2, top / 10, top / 20, top / 100};
   for (std::size_t i = 0; i < solids.size(); ++i) {

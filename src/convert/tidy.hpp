@@ -3,7 +3,8 @@
 // costs (almost) nothing on the grid. Axes within a few degrees of the world's are snapped to
 // them (boxes then lose their rotation), and every length and coordinate is rounded in the
 // mesh's own units: to the coarsest of 1, 5, 10, 50 ... times a power of ten that keeps the
-// error at uniform samples within a tolerance, and never finer than a thousandth of the part's size.
+// error at uniform samples within a tolerance, and never finer than a thousandth of the part's
+// size.
 
 #include <cstddef>
 #include <cstdint>

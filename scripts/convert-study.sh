@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# `fuzzycsg convert` with its defaults on the OpenSCAD models rendered to meshes (their .ref.off)
+# and the CAD meshes of the data collection, one row per shape: primitives (and the original
+# program's count, where known), IoU, Chamfer and Hausdorff distances to the mesh, and time.
+# Usage: scripts/convert-study.sh [FUZZYCSG [OUTDIR [THREADS]]]
+# Writes OUTDIR/<shape>/ (every output of convert) and OUTDIR/table.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/data-dir.sh
+bin=${1:-build/release/apps/fuzzycsg/fuzzycsg}
+out=${2:-/tmp/fuzzycsg-convert-study}
+threads=${3:-2}
+scad=$(fuzzycsg_data_dir scad) || exit 2
+cad=$(fuzzycsg_data_dir meshes/cad) || exit 2
+mkdir -p "$out"
+
+# shape, mesh, primitives of the original program ("-" where there is none), tuned on or held out
+shapes=(
+  "CSG $scad/Basics/CSG.ref.off 6 tuned"
+  "logo $scad/Basics/logo.ref.off 4 held-out"
+  "example001 $scad/Old/example001.ref.off 4 tuned"
+  "example003 $scad/Old/example003.ref.off 7 held-out"
+  "example004 $scad/Old/example004.ref.off 2 held-out"
+  "hole $cad/cgal_hole.off - tuned"
+  "u $cad/cgal_u.off - held-out"
+  "pipe $cad/cgal_pipe.off - held-out"
+  "cross $cad/cgal_cross.off - held-out"
+  "corner $cad/cgal_corner.off - held-out"
+  "P $cad/cgal_P.off - held-out"
+  "couplingdown $cad/cgal_couplingdown.off - held-out"
+  "fandisk $cad/cgal_fandisk.off - held-out"
+  "pinion $cad/cgal_pinion.off - held-out"
+)
+for row in "${shapes[@]}"; do
+  read -r name mesh _ _ <<<"$row"
+  "$bin" convert "$mesh" -o "$out/$name" --threads "$threads" -q 2>"$out/$name.err" ||
+    echo "convert: $name failed: $(tail -1 "$out/$name.err")" >&2
+done
+printf '%s\n' "${shapes[@]}" | python3 -c '
+import json, os, sys
+out = sys.argv[1]
+print("| shape | tuned on | primitives (original) | IoU | Chamfer | Hausdorff | seconds |")
+print("|---|---|---|---|---|---|---|")
+for line in sys.stdin:
+    name, mesh, known, tuned = line.split()
+    path = os.path.join(out, name, "report.json")
+    if not os.path.exists(path):
+        print(f"| {name} | {tuned} | failed | | | | |")
+        continue
+    r = json.load(open(path))
+    m = r["metrics"]
+    f = lambda v: "-" if v is None else f"{v:.3g}"
+    print(f"| {name} | {tuned} | {r[\"primitives\"]} ({known}) | {m[\"iou\"]:.4f} | {f(m[\"chamfer\"])} "
+          f"| {f(m[\"hausdorff\"])} | {r[\"seconds\"][\"total\"]:.1f} |")
+' "$out" | tee "$out/table.md"
