@@ -147,6 +147,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   if (options.max_primitives > 0) search.max_steps = options.max_primitives;
   std::vector<Chain> chains;
   for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
+  extend_cutters(chains, grid, 0.1, options.threads);
   const Tree searched = chains_tree(chains);
   result.search_error = tree_error(searched, grid, options.threads);
   stages.end();
@@ -154,20 +155,37 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   Tree best = searched;
   if (options.refine_steps > 0) {
     stages.begin("refine");
-    BuildOptions soft;
-    soft.sharpness = 60.0;
-    soft.unified = true;
     RefineOptions refine;
+    BuildOptions soft;
+    soft.sharpness = refine.sharpness_start;
+    soft.unified = true;
     refine.steps = options.refine_steps;
     refine.seed = options.seed;
     refine.threads = options.threads;
     const RefineResult refined = refine_fuzzy(chains_tree(chains, soft), *target, refine);
-    const Tree crisp = crisp_tree(refined.tree);
-    result.refine_error = tree_error(crisp, grid, options.threads);
-    if (result.refine_error < result.search_error) {
-      best = crisp;
+    // Each solid takes its refined placement and size where that puts cells right: the
+    // refinement's gains are kept and its losses (an end drawn onto a face, say) are not.
+    const std::vector<Solid> refined_solids = tree_solids(crisp_tree(refined.tree));
+    std::vector<Solid> solids = tree_solids(searched);
+    const GridScorer scorer = sample_scorer(*target, grid, std::size_t{1} << 20, options.seed);
+    const Domain box = searched.domain_or_default();
+    long long error = scorer.error(searched, options.threads);
+    for (std::size_t i = 0; i < solids.size() && i < refined_solids.size(); ++i) {
+      const Solid kept = solids[i];
+      solids[i] = refined_solids[i];
+      const long long e = scorer.error(tree_with_solids(searched, solids, box), options.threads);
+      if (e < error) {
+        error = e;
+        ++result.refined_solids;
+      } else {
+        solids[i] = kept;
+      }
+    }
+    if (result.refined_solids > 0) {
+      best = tree_with_solids(searched, solids, box);
       result.refined = true;
     }
+    result.refine_error = tree_error(best, grid, options.threads);
     stages.end();
   }
 

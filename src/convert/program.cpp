@@ -3,6 +3,8 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
+#include <utility>
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/snap.hpp"
@@ -162,6 +164,28 @@ long long GridScorer::error(const Tree& tree, int threads) const {
     if ((occupancy[c] >= 0.5f ? 1 : 0) != labels_[c]) ++error;
   }
   return error;
+}
+
+GridScorer sample_scorer(const Target& target, const LabelGrid& grid, std::size_t n,
+                         std::uint64_t seed) {
+  // Uniform random points over the grid's box, not its cells' centres: a change smaller than a
+  // cell moves a face across whole layers of centres at once, which would judge it by aliasing.
+  Rng rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<float> points(3 * n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const Eigen::Vector3d f =
+        grid.origin +
+        grid.cell * Eigen::Vector3d(u(rng) * grid.n[0], u(rng) * grid.n[1], u(rng) * grid.n[2]);
+    const Eigen::Vector3d w = grid.frame * f;
+    for (int a = 0; a < 3; ++a)
+      points[3 * p + static_cast<std::size_t>(a)] = static_cast<float>(w[a]);
+  }
+  std::vector<float> occupancy(n);
+  target.occupancy(points, occupancy);
+  std::vector<std::uint8_t> labels(n);
+  for (std::size_t p = 0; p < n; ++p) labels[p] = occupancy[p] >= 0.5f ? 1 : 0;
+  return GridScorer(std::move(points), std::move(labels));
 }
 
 long long tree_error(const Tree& tree, const LabelGrid& grid, int threads) {

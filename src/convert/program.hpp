@@ -9,6 +9,7 @@
 
 #include "convert/search.hpp"
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::convert {
 
@@ -52,5 +53,11 @@ class GridScorer {
   std::vector<float> points_;
   std::vector<std::uint8_t> labels_;
 };
+
+// A scorer at `n` uniform random points over the grid's box, labelled by the target. Unlike the
+// cells' centres, these do not judge a change smaller than a cell by aliasing (a face moved
+// across a whole layer of centres at once).
+GridScorer sample_scorer(const Target& target, const LabelGrid& grid, std::size_t n,
+                         std::uint64_t seed);
 
 }  // namespace fuzzycsg::convert

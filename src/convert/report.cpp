@@ -43,6 +43,7 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
                  {"refine_error_cells",
                   r.refine_error >= 0 ? ordered_json(r.refine_error) : ordered_json(nullptr)},
                  {"refined", r.refined},
+                 {"refined_solids", r.refined_solids},
                  {"tidy_error_samples", r.tidy_error},
                  {"axes_snapped", r.axes_snapped},
                  {"values_rounded", r.values_rounded}};

@@ -88,34 +88,13 @@ std::vector<std::pair<double*, bool>> numbers_of(Solid& s) {
   return out;
 }
 
-GridScorer sample(const Target& target, const LabelGrid& grid, const TidyOptions& options) {
-  // Uniform random points over the grid's box, not its cells' centres: a change smaller than a
-  // cell moves a face across whole layers of centres at once, which would judge it by aliasing.
-  Rng rng(options.seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<float> points(3 * options.points);
-  for (std::size_t p = 0; p < options.points; ++p) {
-    const Eigen::Vector3d f =
-        grid.origin +
-        grid.cell * Eigen::Vector3d(u(rng) * grid.n[0], u(rng) * grid.n[1], u(rng) * grid.n[2]);
-    const Eigen::Vector3d w = grid.frame * f;
-    for (int a = 0; a < 3; ++a)
-      points[3 * p + static_cast<std::size_t>(a)] = static_cast<float>(w[a]);
-  }
-  std::vector<float> occupancy(options.points);
-  target.occupancy(points, occupancy);
-  std::vector<std::uint8_t> labels(options.points);
-  for (std::size_t p = 0; p < options.points; ++p) labels[p] = occupancy[p] >= 0.5f ? 1 : 0;
-  return GridScorer(std::move(points), std::move(labels));
-}
-
 class Tidier {
  public:
   Tidier(const Tree& tree, const Similarity& normalisation, const Target& target,
          const LabelGrid& grid, const TidyOptions& options)
       : tree_(tree),
         normalisation_(normalisation),
-        scorer_(sample(target, grid, options)),
+        scorer_(sample_scorer(target, grid, options.points, options.seed)),
         options_(options) {
     const long long inside = static_cast<long long>(scorer_.inside());
     step_ = static_cast<long long>(options.step_tolerance * static_cast<double>(inside));
@@ -154,6 +133,36 @@ class Tidier {
 };
 
 }  // namespace
+
+int extend_cutters(std::vector<Chain>& chains, const LabelGrid& grid, double distance,
+                   int threads) {
+  const GridScorer scorer(grid);
+  long long error = scorer.error(chains_tree(chains), threads);
+  int moved = 0;
+  for (Chain& chain : chains) {
+    for (ChainStep& step : chain.steps) {
+      if (step.move != Move::kDifference) continue;
+      if (step.solid.kind != SolidKind::kCylinder && step.solid.kind != SolidKind::kBox) continue;
+      // Local axes that have ends: a cylinder's own; a box's three.
+      const int first = step.solid.kind == SolidKind::kCylinder ? 2 : 0;
+      for (int axis = first; axis < 3; ++axis) {
+        for (const double side : {-1.0, 1.0}) {
+          const Solid old = step.solid;
+          step.solid.size[axis] += distance;
+          step.solid.centre += 0.5 * distance * side * old.rotation.col(axis);
+          const long long e = scorer.error(chains_tree(chains), threads);
+          if (e <= error) {
+            error = e;
+            ++moved;
+          } else {
+            step.solid = old;
+          }
+        }
+      }
+    }
+  }
+  return moved;
+}
 
 TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const Target& target,
                        const LabelGrid& grid, const TidyOptions& options) {

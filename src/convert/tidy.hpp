@@ -38,6 +38,14 @@ struct TidyResult {
   int values_rounded = 0;  // numbers that became coarser than the finest quantum
 };
 
+// The free ends of the solids that chains cut away (cylinders along their axis, boxes along
+// each of their axes) pushed `distance` further out wherever that leaves the error on the grid
+// as it is: a hole cut through the part with room to spare, as a CAD user draws it, rather than
+// one that ends on the part's face, which fuzzy refinement would blur into a skin.
+// Returns the number of ends moved.
+int extend_cutters(std::vector<Chain>& chains, const LabelGrid& grid, double distance,
+                   int threads = 0);
+
 // `tree`: crisp, its leaves solids in the normalised box (normalisation: mesh -> box), judged
 // against `target` at uniform samples over `grid`'s box (both in the same box).
 TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const Target& target,

@@ -82,8 +82,15 @@ TEST(ScadExport, EveryFamilyOpenScadHas) {
   EXPECT_NE(s2.find("rotate(30) square([0.4, 0.2], center = true);"), std::string::npos);
   EXPECT_NE(s2.find("scale([0.3, 0.1]) circle(r = 1);"), std::string::npos);
   EXPECT_NE(s2.find("polygon([[0, 0], [0.5, 0], [0, 0.5]]);"), std::string::npos);
-  EXPECT_NE(s2.find("module fuzzycsg_domain() translate([-1, -1]) square([2, 2]);"),
-            std::string::npos);
+  // A bounded model uses neither the domain nor the cover: their modules are not written.
+  EXPECT_EQ(s2.find("module fuzzycsg_domain()"), std::string::npos) << s2;
+  EXPECT_EQ(s2.find("module fuzzycsg_space()"), std::string::npos) << s2;
+  const std::string c2 = export_text(R"({"op": "complement", "children": [
+      {"type": "circle", "radius": 0.2}]})",
+                                     2);
+  EXPECT_NE(c2.find("module fuzzycsg_domain() translate([-1, -1]) square([2, 2]);"),
+            std::string::npos)
+      << c2;
 }
 
 // The extrude: linear_extrude of the profile's sampled polygon (15 points per segment, P_k

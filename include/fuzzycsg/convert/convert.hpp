@@ -15,8 +15,8 @@
 //            best kept and the steps that do not pay for themselves dropped;
 //   refine   the tree's parameters by fuzzy gradient descent (Liu et al. 2024): sigmoid steps
 //            annealed towards crisp, unified operators leaning towards the chosen booleans,
-//            Adam on the squared error at points near the surface; then snapped to booleans
-//            with crisp steps, and kept only when it gets fewer cells wrong than before;
+//            Adam on the squared error at points near the surface; then each solid, crisp, takes
+//            its refined placement and size where that gets fewer cells wrong;
 //   tidy     axes within a few degrees of the world's snapped to them, and lengths and
 //            coordinates rounded in the mesh's units as coarsely as the grid's error allows;
 //   measure  IoU, Chamfer and Hausdorff distances against the target.
@@ -78,7 +78,8 @@ struct ConvertResult {
   long long grid_cells = 0, dropped_cells = 0;
   long long search_error = 0;   // wrong cells of the search's tree
   long long refine_error = -1;  // wrong cells of the refined tree (-1: not refined)
-  bool refined = false;         // the refined tree was kept
+  bool refined = false;         // some of the refined solids were kept
+  int refined_solids = 0;       // solids that took their refined placement and size
   long long tidy_error = 0;     // wrong samples of the tidy stage, after it
   int axes_snapped = 0;         // solids turned onto the world's axes
   int values_rounded = 0;       // numbers rounded coarser than a thousandth of the part
