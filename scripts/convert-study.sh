@@ -33,6 +33,7 @@ shapes=(
 )
 for row in "${shapes[@]}"; do
   read -r name mesh _ _ <<<"$row"
+  [[ -n "${ONLY_TABLE:-}" ]] && continue
   "$bin" convert "$mesh" -o "$out/$name" --threads "$threads" -q 2>"$out/$name.err" ||
     echo "convert: $name failed: $(tail -1 "$out/$name.err")" >&2
 done
@@ -49,7 +50,8 @@ for line in sys.stdin:
         continue
     r = json.load(open(path))
     m = r["metrics"]
-    f = lambda v: "-" if v is None else f"{v:.3g}"
-    print(f"| {name} | {tuned} | {r[\"primitives\"]} ({known}) | {m[\"iou\"]:.4f} | {f(m[\"chamfer\"])} "
-          f"| {f(m[\"hausdorff\"])} | {r[\"seconds\"][\"total\"]:.1f} |")
+    f = lambda v: "-" if v is None else "%.3g" % v
+    row = (name, tuned, r["primitives"], known, m["iou"], f(m["chamfer"]), f(m["hausdorff"]),
+           r["seconds"]["total"])
+    print("| %s | %s | %d (%s) | %.4f | %s | %s | %.1f |" % row)
 ' "$out" | tee "$out/table.md"

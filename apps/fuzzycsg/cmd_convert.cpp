@@ -85,6 +85,14 @@ int run_convert_job(const ConvertJob& a) {
 #if FUZZYCSG_HAVE_DIAGRAM
   write_diagram(r.tree, dir / "diagram.svg");
 #endif
+  if (!r.reached || r.time_limit_reached) {
+    fmt::print(
+        stderr, "convert: {}: {}{}; the best tree found is written\n", a.target,
+        r.reached ? "" : fmt::format("IoU {:.4f} is below {}", r.metrics.iou, a.options.warn_iou),
+        r.time_limit_reached ? fmt::format("{}the time limit ({} s) cut the search short",
+                                           r.reached ? "" : "; ", a.options.time_limit)
+                             : "");
+  }
   if (!a.quiet) {
     fmt::print("convert: {} -> {}: {} primitives, IoU {:.4f}{}, {:.1f} s\n", a.target, a.out_dir,
                r.primitives, r.metrics.iou,
@@ -106,7 +114,11 @@ Verb register_convert(CLI::App& app) {
                   "At most this many primitives a part (0: as many as pay for themselves)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1 << 20));
-  cmd->add_option("--time-limit", o.time_limit, "Seconds")->capture_default_str();
+  cmd->add_option("--time-limit", o.time_limit, "Seconds (the stages end early to keep within it)")
+      ->capture_default_str();
+  cmd->add_option("--warn-iou", o.warn_iou,
+                  "Say so on stderr and in report.json when the IoU ends below this")
+      ->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
   cmd->add_option("--resolution", o.resolution, "Search grid cells along the longest side")
       ->capture_default_str();

@@ -76,6 +76,8 @@ void validate(const ConvertOptions& o) {
   if (o.refine_steps < 0) throw OptionError("refine_steps", "must be >= 0");
   if (!(o.padding >= 0 && o.padding < 0.5)) throw OptionError("padding", "must be in [0, 0.5)");
   if (o.threads < 0) throw OptionError("threads", "must be >= 0");
+  if (!(o.time_limit > 0)) throw OptionError("time_limit", "must be > 0");
+  if (!(o.warn_iou >= 0 && o.warn_iou <= 1)) throw OptionError("warn_iou", "must be in [0, 1]");
 }
 
 ConvertResult convert(const std::string& path, const ConvertOptions& options,
@@ -145,9 +147,15 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   search.seed = options.seed;
   search.restarts = options.restarts;
   if (options.max_primitives > 0) search.max_steps = options.max_primitives;
+  const auto at = [&](double fraction) {
+    return start + std::chrono::duration_cast<Clock::duration>(
+                       std::chrono::duration<double>(fraction * options.time_limit));
+  };
+  search.deadline = at(0.6);
   std::vector<Chain> chains;
   for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
   extend_cutters(chains, grid, 0.1, options.threads);
+  result.time_limit_reached = Clock::now() > *search.deadline;
   const Tree searched = chains_tree(chains);
   result.search_error = tree_error(searched, grid, options.threads);
   stages.end();
@@ -162,9 +170,11 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
     refine.steps = options.refine_steps;
     refine.seed = options.seed;
     refine.threads = options.threads;
+    refine.deadline = at(0.8);
     const RefineResult refined = refine_fuzzy(chains_tree(chains, soft), *target, refine);
     // Each solid takes its refined placement and size where that puts cells right: the
     // refinement's gains are kept and its losses (an end drawn onto a face, say) are not.
+    result.time_limit_reached = result.time_limit_reached || refined.stopped;
     const std::vector<Solid> refined_solids = tree_solids(crisp_tree(refined.tree));
     std::vector<Solid> solids = tree_solids(searched);
     const GridScorer scorer = sample_scorer(*target, grid, std::size_t{1} << 20, options.seed);
@@ -194,8 +204,10 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   tidy.threads = options.threads;
   tidy.enabled = options.tidy;
   tidy.seed = options.seed;
+  tidy.deadline = at(0.95);
   const TidyResult tidied = tidy_solids(best, result.normalisation, *target, grid, tidy);
   result.tidy_error = tidied.error_after;
+  result.time_limit_reached = result.time_limit_reached || tidied.stopped;
   result.axes_snapped = tidied.axes_snapped;
   result.values_rounded = tidied.values_rounded;
   const Domain box = best.domain_or_default();
@@ -215,6 +227,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   }
   stages.end();
 
+  result.reached = result.metrics.iou >= options.warn_iou;
   result.primitives = count_leaves(result.tree);
   result.seconds = since(start);
   return result;

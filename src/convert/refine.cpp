@@ -51,6 +51,10 @@ RefineResult refine_fuzzy(const Tree& tree, const Target& target, const RefineOp
   double first = 0, last = 0;
   std::size_t offset = 0;
   for (int k = 0; k < steps; ++k) {
+    if (options.deadline && std::chrono::steady_clock::now() > *options.deadline) {
+      result.stopped = true;
+      break;
+    }
     const double f = steps > 1 ? static_cast<double>(k) / (steps - 1) : 1.0;
     const double s = optim::geometric(options.sharpness_start, options.sharpness_end, f);
     for (const std::size_t i : sharpness) params[i] = s;

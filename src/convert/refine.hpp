@@ -5,7 +5,9 @@
 // unified operators B_c leaning towards the boolean the search chose, and Adam descends the mean
 // squared error of the occupancy against the target's labels at points drawn near its surface.
 
+#include <chrono>
 #include <cstdint>
+#include <optional>
 
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/target/target.hpp"
@@ -24,11 +26,14 @@ struct RefineOptions {
   double near_distance = 0.03;  // half-width of the band around the surface where points are drawn
   std::uint64_t seed = 0;
   int threads = 0;
+  // No step starts after this time; the schedule is not shortened, the refinement just ends.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct RefineResult {
   Tree tree;  // the soft tree after the last step (unified operators, sigmoid steps)
   double loss_first = 0, loss_last = 0;  // mean loss of the first and last tenth of the steps
+  bool stopped = false;                  // ended at the deadline
 };
 
 // `tree`: a tree of solids with sigmoid steps and unified operators (chains_tree with

@@ -14,6 +14,7 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
                    {"threads", o.threads},
                    {"max_primitives", o.max_primitives},
                    {"time_limit", o.time_limit},
+                   {"warn_iou", o.warn_iou},
                    {"resolution", o.resolution},
                    {"restarts", o.restarts},
                    {"refine_steps", o.refine_steps},
@@ -27,6 +28,8 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
   metrics["hausdorff"] = r.hausdorff ? ordered_json(*r.hausdorff) : ordered_json(nullptr);
   metrics["points"] = r.metrics.points;
   j["metrics"] = metrics;
+  j["reached"] = r.reached;
+  j["time_limit_reached"] = r.time_limit_reached;
   j["primitives"] = r.primitives;
   ordered_json kinds = ordered_json::object();
   for (const Solid& s : tree_solids(r.tree)) {

@@ -7,6 +7,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <memory>
 
 namespace fuzzycsg::convert {
 
@@ -132,6 +133,10 @@ struct Candidate {
 struct ScoredMove {
   long long gain = 0;
   Move move = Move::kUnion;
+  // A union placed second in the chain, before every carving step after the first solid: its
+  // cells are those of the solid that the later differences and intersections leave (the arms
+  // of a cross added before the holes through them are cut, rather than in pieces around them).
+  bool early = false;
   int solid = -1;                  // index into the listed candidates, or -1 for a frame box
   std::array<AxisRange, 3> box{};  // the frame box
 };
@@ -214,7 +219,7 @@ class Greedy {
   // alone), at most `count`, best first.
   std::vector<ScoredMove> first_moves(int count) const {
     const std::vector<std::uint8_t> empty(g_.size(), 0);
-    const Weights w(g_, empty);
+    const Weights w(g_, empty, nullptr);
     TopMoves boxes(1), listed(count);
     offer_boxes(w, boxes);
     offer_listed(w, listed);
@@ -231,13 +236,20 @@ class Greedy {
   // the first move, taken whatever its gain.
   std::vector<ChainStep> run(std::mt19937_64* random, const ScoredMove* first = nullptr) const {
     std::vector<std::uint8_t> state(g_.size(), 0);
+    // The cells that the steps after the first leave standing (differences and intersections
+    // take theirs away): what an early union can add.
+    std::vector<std::uint8_t> survive(g_.size(), 1);
+    bool carved = false;
     std::vector<ChainStep> steps;
     for (int step = 0; step < options_.max_steps; ++step) {
+      if (step > 0 && options_.deadline && std::chrono::steady_clock::now() > *options_.deadline) {
+        break;
+      }
       ScoredMove chosen;
       if (step == 0 && first) {
         chosen = *first;
       } else {
-        const Weights w(g_, state);
+        const Weights w(g_, state, carved ? &survive : nullptr);
         TopMoves top(random ? options_.top_moves : 1);
         offer_boxes(w, top);
         offer_listed(w, top);
@@ -247,13 +259,26 @@ class Greedy {
       ChainStep s;
       s.move = chosen.move;
       s.gain = chosen.gain;
+      const Cells* cells = nullptr;
+      Cells box;
       if (chosen.solid >= 0) {
         const Candidate& c = listed_[static_cast<std::size_t>(chosen.solid)];
         s.solid = c.solid;
-        apply(g_, s.move, c.cells, state);
+        cells = &c.cells;
       } else {
         s.solid = frame_box(g_, chosen.box);
-        apply(g_, s.move, box_cells(g_, chosen.box), state);
+        box = box_cells(g_, chosen.box);
+        cells = &box;
+      }
+      if (chosen.early) {
+        for (const std::uint32_t c : *cells) state[c] = state[c] | survive[c];
+        steps.insert(steps.begin() + 1, std::move(s));
+        continue;
+      }
+      apply(g_, s.move, *cells, state);
+      if (step > 0 && s.move != Move::kUnion) {
+        carved = true;
+        apply(g_, s.move, *cells, survive);
       }
       steps.push_back(std::move(s));
     }
@@ -264,17 +289,22 @@ class Greedy {
   // Per cell, what each move would put right (+1) or wrong (-1): a union where the chain's solid
   // is not, a difference where it is; and the cells of the target that the solid holds (which a
   // difference or an intersection may lose).
+  // `survive` (when something was carved after the first solid): the cells an early union adds,
+  // weighed in we.
   struct Weights {
-    std::vector<std::int8_t> wu, wd, wt;
+    std::vector<std::int8_t> wu, wd, wt, we;
     long long total_d = 0, total_t = 0;
     bool any = false;
-    Weights(const LabelGrid& g, const std::vector<std::uint8_t>& state)
+    Weights(const LabelGrid& g, const std::vector<std::uint8_t>& state,
+            const std::vector<std::uint8_t>* survive)
         : wu(g.size()), wd(g.size()), wt(g.size()) {
+      if (survive) we.resize(g.size());
       for (std::size_t c = 0; c < g.size(); ++c) {
         const std::uint8_t l = g.label[c];
         const bool in = state[c] != 0;
         any = any || in;
         wu[c] = static_cast<std::int8_t>(l == 2 || in ? 0 : (l == 1 ? 1 : -1));
+        if (survive) we[c] = (*survive)[c] ? wu[c] : std::int8_t{0};
         wd[c] = static_cast<std::int8_t>(l == 2 || !in ? 0 : (l == 1 ? -1 : 1));
         wt[c] = static_cast<std::int8_t>(in && l == 1 ? 1 : 0);
         total_d += wd[c];
@@ -304,8 +334,18 @@ class Greedy {
     }
   }
 
+  // An early union is offered only where it gains more than the same union at the end.
+  static void offer_early(long long gain, ScoredMove m, TopMoves& top) {
+    if (gain <= m.gain) return;
+    m.gain = gain;
+    m.early = true;
+    top.offer(m);
+  }
+
   void offer_boxes(const Weights& w, TopMoves& top) const {
     const SummedTable su(g_, w.wu), sd(g_, w.wd), st(g_, w.wt);
+    const std::unique_ptr<const SummedTable> se =
+        w.we.empty() ? nullptr : std::make_unique<const SummedTable>(g_, w.we);
     for (const AxisRange& r2 : ranges_[2]) {
       for (const AxisRange& r1 : ranges_[1]) {
         for (const AxisRange& r0 : ranges_[0]) {
@@ -314,6 +354,7 @@ class Greedy {
           m.gain = su.box(r0, r1, r2);
           m.move = Move::kUnion;
           top.offer(m);
+          if (se) offer_early(se->box(r0, r1, r2), m, top);
           if (w.any) offer_carving(w, sd.box(r0, r1, r2), st.box(r0, r1, r2), m, top);
         }
       }
@@ -322,17 +363,19 @@ class Greedy {
 
   void offer_listed(const Weights& w, TopMoves& top) const {
     for (std::size_t i = 0; i < listed_.size(); ++i) {
-      long long u = 0, d = 0, t = 0;
+      long long u = 0, d = 0, t = 0, e = 0;
       for (const std::uint32_t c : listed_[i].cells) {
         u += w.wu[c];
         d += w.wd[c];
         t += w.wt[c];
+        if (!w.we.empty()) e += w.we[c];
       }
       ScoredMove m;
       m.solid = static_cast<int>(i);
       m.gain = u;
       m.move = Move::kUnion;
       top.offer(m);
+      if (!w.we.empty()) offer_early(e, m, top);
       offer_carving(w, d, t, m, top);
     }
   }

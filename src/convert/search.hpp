@@ -12,7 +12,9 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -95,6 +97,9 @@ struct SearchOptions {
   // that the chain holds (more undoes the chain instead of carving it).
   double max_loss = 0.5;
   std::uint64_t seed = 0;
+  // No step starts after this time (the first step of the greedy descent excepted): the chains
+  // end where they are. Set, the result depends on the machine's speed.
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 // The best chain over the restarts (fewest wrong cells plus min_gain cells a step), with steps

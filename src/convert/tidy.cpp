@@ -193,7 +193,9 @@ TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const 
     const std::size_t count = numbers_of(solids[i]).size();
     for (std::size_t k = 0; k < count; ++k) {
       bool done = false;
-      for (std::size_t q = 0; q + 1 < quanta.size() && !done; ++q) {
+      const bool late = options.deadline && std::chrono::steady_clock::now() > *options.deadline;
+      result.stopped = result.stopped || late;
+      for (std::size_t q = 0; q + 1 < quanta.size() && !done && !late; ++q) {
         Solid candidate = solids[i];
         const auto [value, positive] = numbers_of(candidate)[k];
         const double rounded = std::round(*value / quanta[q]) * quanta[q];

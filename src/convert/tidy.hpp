@@ -6,8 +6,10 @@
 // error at uniform samples within a tolerance, and never finer than a thousandth of the part's
 // size.
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "convert/program.hpp"
@@ -29,6 +31,8 @@ struct TidyOptions {
   std::size_t points = std::size_t{1} << 20;  // uniform samples over the grid's box
   std::uint64_t seed = 0;
   int threads = 0;
+  // After this time numbers get the finest quantum only (no more trials).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
 };
 
 struct TidyResult {
@@ -36,6 +40,7 @@ struct TidyResult {
   long long error_before = 0, error_after = 0;  // wrong samples
   int axes_snapped = 0;
   int values_rounded = 0;  // numbers that became coarser than the finest quantum
+  bool stopped = false;    // the deadline passed before every number was tried
 };
 
 // The free ends of the solids that chains cut away (cylinders along their axis, boxes along

@@ -183,7 +183,9 @@ std::size_t split_at_t_junctions(std::vector<std::pair<int, int>>& boundary,
   std::vector<std::pair<int, int>> pieces;
   std::unordered_set<int> split_at;
   std::vector<std::pair<double, int>> on_edge;  // (parameter along the edge, corner)
-  for (const auto& [a, b] : boundary) {
+  for (const auto& edge : boundary) {
+    const int a = edge.first;  // plain names: lambdas below capture them
+    const int b = edge.second;
     const Position& pa = where[static_cast<std::size_t>(a)];
     const Position& pb = where[static_cast<std::size_t>(b)];
     const Position d = minus(pb, pa);

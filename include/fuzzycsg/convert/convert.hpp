@@ -34,8 +34,12 @@
 namespace fuzzycsg::convert {
 
 struct ConvertOptions {
-  int max_primitives = 0;   // at most this many leaves (0: as the search finds, up to 32 a part)
-  double time_limit = 300;  // seconds; the search and refinement stop early to keep within it
+  int max_primitives = 0;  // at most this many leaves (0: as the search finds, up to 32 a part)
+  // Seconds. The search takes no step after 60% of it, the refinement none after 80%, the
+  // rounding of numbers tries nothing after 95%; the result then depends on the machine's speed.
+  double time_limit = 300;
+  // A result below this IoU against the mesh is reported as not reaching the target.
+  double warn_iou = 0.97;
   std::uint64_t seed = 0;
   int threads = 0;         // 0: all hardware threads
   int resolution = 128;    // grid cells of the search along the part's longest side
@@ -76,13 +80,15 @@ struct ConvertResult {
   std::vector<std::string> surfaces;  // the detected surfaces, one line each
   int components = 0;                 // connected parts found on the grid
   long long grid_cells = 0, dropped_cells = 0;
-  long long search_error = 0;   // wrong cells of the search's tree
-  long long refine_error = -1;  // wrong cells of the refined tree (-1: not refined)
-  bool refined = false;         // some of the refined solids were kept
-  int refined_solids = 0;       // solids that took their refined placement and size
-  long long tidy_error = 0;     // wrong samples of the tidy stage, after it
-  int axes_snapped = 0;         // solids turned onto the world's axes
-  int values_rounded = 0;       // numbers rounded coarser than a thousandth of the part
+  long long search_error = 0;       // wrong cells of the search's tree
+  long long refine_error = -1;      // wrong cells of the refined tree (-1: not refined)
+  bool refined = false;             // some of the refined solids were kept
+  int refined_solids = 0;           // solids that took their refined placement and size
+  long long tidy_error = 0;         // wrong samples of the tidy stage, after it
+  int axes_snapped = 0;             // solids turned onto the world's axes
+  int values_rounded = 0;           // numbers rounded coarser than a thousandth of the part
+  bool time_limit_reached = false;  // some stage ended early (ConvertOptions::time_limit)
+  bool reached = true;              // metrics.iou >= ConvertOptions::warn_iou
   std::vector<StageTime> stages;
   double seconds = 0;
 };
