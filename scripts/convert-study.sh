@@ -3,7 +3,8 @@
 # and the CAD meshes of the data collection, one row per shape: primitives (and the original
 # program's count, where known), IoU, Chamfer and Hausdorff distances to the mesh, and time.
 # Usage: scripts/convert-study.sh [FUZZYCSG [OUTDIR [THREADS]]]
-# Writes OUTDIR/<shape>/ (every output of convert) and OUTDIR/table.md.
+# Writes OUTDIR/<shape>/ (every output of convert), OUTDIR/shapes.txt (the rows below) and
+# OUTDIR/table.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/data-dir.sh
@@ -31,6 +32,7 @@ shapes=(
   "fandisk $cad/cgal_fandisk.off - held-out"
   "pinion $cad/cgal_pinion.off - held-out"
 )
+printf '%s\n' "${shapes[@]}" >"$out/shapes.txt"  # read by bench/convert_vs_fit.py
 for row in "${shapes[@]}"; do
   read -r name mesh _ _ <<<"$row"
   [[ -n "${ONLY_TABLE:-}" ]] && continue
