@@ -45,11 +45,13 @@ def prune(args, mesh, tree, k, out):
     start = time.monotonic()
     text = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     seconds = time.monotonic() - start
-    after = re.search(r"after\s+MSE \S+\s+IoU (\S+)\s+Chamfer (\S+)", text)
+    after = re.search(r"after\s+MSE \S+\s+IoU (\S+)(?:\s+Chamfer (\S+))?", text)
     counts = re.search(r"-> (\d+)\+", text)
     if not after or not counts:
         sys.exit(f"prune printed no measures for {tree}: {text.strip()}")
-    return {"iou": float(after.group(1)), "chamfer": float(after.group(2)),
+    # An empty tree has no Chamfer distance.
+    return {"iou": float(after.group(1)),
+            "chamfer": float(after.group(2)) if after.group(2) else None,
             "primitives": int(counts.group(1)), "seconds": seconds}
 
 
