@@ -55,6 +55,9 @@ class StagePrinter {
 }  // namespace
 
 int run_convert_job(const ConvertJob& a) {
+  if (std::filesystem::is_directory(a.target)) {
+    throw InputError(a.target + ": is a folder, not a mesh file");
+  }
   if (!std::filesystem::is_regular_file(a.target)) {
     throw InputError(a.target + ": no such file");
   }

@@ -751,6 +751,8 @@ PY
 then ok; else bad "convert: not deterministic, or a poor result"; fi
 # Bad input: one line, exit 2, nothing written.
 expect_error "no-such.off: no such file" "$bin" convert "$tmp/no-such.off" -o "$tmp/cvbad"
+mkdir -p "$tmp/a-folder.off"
+expect_error "a-folder.off: is a folder, not a mesh file" "$bin" convert "$tmp/a-folder.off" -o "$tmp/cvbad"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$tmp/open.off"
 expect_error "open.off: mesh is open: 3 boundary edges" "$bin" convert "$tmp/open.off" -o "$tmp/cvbad"
 printf 'OFF\n0 0 0\n' >"$tmp/nothing.off"
