@@ -154,8 +154,8 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   search.deadline = at(0.6);
   std::vector<Chain> chains;
   for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
+  result.time_limit_reached = Clock::now() > *search.deadline;  // before extending the cutters
   extend_cutters(chains, grid, 0.1, options.threads);
-  result.time_limit_reached = Clock::now() > *search.deadline;
   const Tree searched = chains_tree(chains);
   result.search_error = tree_error(searched, grid, options.threads);
   stages.end();
