@@ -164,6 +164,47 @@ TEST(ConvertSearch, FindsABoxWithAHole) {
   EXPECT_EQ(again.error, chain.error);
 }
 
+// A plate with a hole, and an arm that crosses the hole and runs out of the plate. The greedy
+// descent alone takes the plate, then the cut (it gains most); the arm, united after the cut,
+// would fill the hole where it crosses it, so it must be united early: placed before the cut.
+TEST(ConvertSearch, UnitesEarlyWhatALaterCutGoesThrough) {
+  LabelGrid g;
+  g.n = {24, 24, 6};
+  g.label.assign(24 * 24 * 6, 0);
+  const auto in = [](int v, int lo, int hi) { return v >= lo && v < hi; };
+  for (int k = 0; k < 6; ++k) {
+    for (int j = 0; j < 24; ++j) {
+      for (int i = 0; i < 24; ++i) {
+        const bool z = in(k, 1, 5);
+        const bool plate = z && in(i, 2, 22) && in(j, 2, 14);
+        const bool arm = z && in(i, 10, 14) && in(j, 4, 22);
+        const bool hole = in(i, 8, 16) && in(j, 6, 12);
+        g.label[g.index(i, j, k)] = (plate || arm) && !hole ? 1 : 0;
+      }
+    }
+  }
+  Candidates c;  // the plate's and the hole's faces; the arm only as a listed solid
+  c.box_offsets = {std::vector<double>{2, 22, 8, 16}, std::vector<double>{2, 14, 6, 12},
+                   std::vector<double>{1, 5, -1, 7}};
+  Solid arm;
+  arm.kind = SolidKind::kBox;
+  arm.centre = {12, 13, 3};
+  arm.size = {4, 18, 4};
+  c.solids.push_back(arm);
+  SearchOptions o;
+  o.first_moves = 0;  // no run started from the arm
+  o.restarts = 0;
+  o.max_steps = 3;  // no second cut to mend a late arm
+  const Chain chain = search_chain(g, c, o);
+  ASSERT_EQ(chain.steps.size(), 3u);
+  EXPECT_EQ(chain.steps[0].solid.size[0], 20);  // the plate
+  EXPECT_EQ(chain.steps[1].move, Move::kUnion);  // the arm, before the cut
+  EXPECT_EQ(chain.steps[1].solid.size[1], 18);
+  EXPECT_EQ(chain.steps[2].move, Move::kDifference);
+  EXPECT_EQ(chain.error, 0);
+  EXPECT_EQ(chain.error, chain_error(g, chain.steps));
+}
+
 // Two separate parts are two components, each counted only on its own grid.
 TEST(ConvertSearch, SplitsComponents) {
   LabelGrid g;
