@@ -738,17 +738,24 @@ for f in ("render.png", "part.obj", "part.json"):
     assert open(d + "/" + f, "rb").read(4), f
 PY
 then ok; else bad "demo (convert): $(tail -5 "$tmp/cdemo.log")"; fi
-# The same seed and thread count give the same tree; the tree sits where the mesh does.
+# The same seed and thread count give the same tree; the tree sits where the mesh does. The
+# second run asks for an IoU it cannot reach (--warn-iou 1, which changes no tree): it says so on
+# stderr and in report.json, and writes its tree all the same.
 hole="$src/tests/data/meshes/cad/cgal_hole.off"
 if "$bin" convert "$hole" -o "$tmp/cv1" --seed 3 --threads 2 -q &&
-    "$bin" convert "$hole" -o "$tmp/cv2" --seed 3 --threads 2 -q &&
+    "$bin" convert "$hole" -o "$tmp/cv2" --seed 3 --threads 2 -q --warn-iou 1 2>"$tmp/cv2.err" &&
     cmp -s "$tmp/cv1/tree.json" "$tmp/cv2/tree.json" && cmp -s "$tmp/cv1/model.scad" "$tmp/cv2/model.scad" &&
-    python3 - "$tmp/cv1" <<'PY'
+    python3 - "$tmp/cv1" "$tmp/cv2" "$tmp/cv2.err" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1] + "/report.json"))
 assert r["metrics"]["iou"] >= 0.95 and r["primitives"] <= 4, r
+assert r["reached"] is (r["metrics"]["iou"] >= 0.97) and r["time_limit_reached"] is False, r
+r2 = json.load(open(sys.argv[2] + "/report.json"))
+assert r2["reached"] is False and r2["settings"]["warn_iou"] == 1, r2
+err = open(sys.argv[3]).read().splitlines()
+assert len(err) == 1 and "is below 1; the best tree found is written" in err[0], err
 PY
-then ok; else bad "convert: not deterministic, or a poor result"; fi
+then ok; else bad "convert: not deterministic, or a poor result, or no word of it"; fi
 # Bad input: one line, exit 2, nothing written.
 expect_error "no-such.off: no such file" "$bin" convert "$tmp/no-such.off" -o "$tmp/cvbad"
 mkdir -p "$tmp/a-folder.off"

@@ -197,7 +197,7 @@ TEST(ConvertSearch, UnitesEarlyWhatALaterCutGoesThrough) {
   o.max_steps = 3;  // no second cut to mend a late arm
   const Chain chain = search_chain(g, c, o);
   ASSERT_EQ(chain.steps.size(), 3u);
-  EXPECT_EQ(chain.steps[0].solid.size[0], 20);  // the plate
+  EXPECT_EQ(chain.steps[0].solid.size[0], 20);   // the plate
   EXPECT_EQ(chain.steps[1].move, Move::kUnion);  // the arm, before the cut
   EXPECT_EQ(chain.steps[1].solid.size[1], 18);
   EXPECT_EQ(chain.steps[2].move, Move::kDifference);
