@@ -76,8 +76,6 @@ class AnySphere : public CGAL::Shape_detection::Sphere<Traits> {
   }
 };
 
-constexpr double kDegree = std::numbers::pi / 180;
-
 // CGAL's default generator seeded for the lifetime of the object, then given back its state.
 class SeededCgalRandom {
  public:
@@ -484,9 +482,9 @@ std::vector<Surface> detect_surfaces(const TriangleMesh& mesh, const DetectOptio
   const PreparedMesh m = detail::prepare_mesh(mesh);
   Tolerances tol;
   tol.distance = options.epsilon * m.diagonal;
-  tol.normal_angle = options.normal_angle_deg * kDegree;
+  tol.normal_angle = options.normal_angle_deg * detail::kDegree;
   tol.cos_normal = std::cos(tol.normal_angle);
-  tol.facet_half_angle = 0.5 * options.max_facet_angle_deg * kDegree;
+  tol.facet_half_angle = 0.5 * options.max_facet_angle_deg * detail::kDegree;
   tol.min_area = options.min_area * m.total_area;
 
   const std::vector<Sample> samples = sample_points(m, options.samples, options.seed);

@@ -3,6 +3,7 @@
 // into surfaces) share; private to convert.
 
 #include <array>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Core>
@@ -10,6 +11,9 @@
 #include "fuzzycsg/convert/detect.hpp"
 
 namespace fuzzycsg::convert::detail {
+
+// One degree in radians.
+inline constexpr double kDegree = std::numbers::pi / 180;
 
 // The mesh as detection reads it.
 struct PreparedMesh {

@@ -26,7 +26,6 @@ namespace {
 using Eigen::Vector3d;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr double kDegree = std::numbers::pi / 180;
 
 std::size_t at(int i) { return static_cast<std::size_t>(i); }
 

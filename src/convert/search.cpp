@@ -125,7 +125,7 @@ class SummedTable {
   std::vector<long long> sum_;
 };
 
-struct Candidate {
+struct CellCandidate {
   Solid solid;
   Cells cells;
 };
@@ -262,7 +262,7 @@ class Greedy {
       const Cells* cells = nullptr;
       Cells box;
       if (chosen.solid >= 0) {
-        const Candidate& c = listed_[static_cast<std::size_t>(chosen.solid)];
+        const CellCandidate& c = listed_[static_cast<std::size_t>(chosen.solid)];
         s.solid = c.solid;
         cells = &c.cells;
       } else {
@@ -396,7 +396,7 @@ class Greedy {
   const LabelGrid& g_;
   const SearchOptions& options_;
   std::array<std::vector<AxisRange>, 3> ranges_;
-  std::vector<Candidate> listed_;
+  std::vector<CellCandidate> listed_;
   long long inside_ = 0, min_gain_ = 1;
 };
 

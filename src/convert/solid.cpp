@@ -12,8 +12,6 @@ namespace fuzzycsg::convert {
 
 namespace {
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
-
 std::string number(double v) { return fmt::format("{:.4g}", v); }
 
 }  // namespace
@@ -143,7 +141,7 @@ Eigen::Vector3d euler_xyz_degrees(const Eigen::Matrix3d& r) {
     // Gimbal lock: only a - c (b = 90°) or a + c (b = -90°) is determined; take c = 0.
     a = std::atan2(-r(1, 2), r(1, 1));
   }
-  return {a * kDeg, b * kDeg, c * kDeg};
+  return {a * kDegreesPerRadian, b * kDegreesPerRadian, c * kDegreesPerRadian};
 }
 
 Eigen::Matrix3d rotation_from_euler_degrees(const Eigen::Vector3d& angles) {

@@ -4,12 +4,15 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <numbers>
 #include <string>
 
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree_builder.hpp"
 
 namespace fuzzycsg::convert {
+
+inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 
 enum class SolidKind { kBox, kCylinder, kCone, kSphere, kTorus, kHalfSpace };
 

@@ -11,13 +11,11 @@ namespace fuzzycsg::convert {
 
 namespace {
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
-
 // The world axis (0, 1, 2) and sign that `v` (unit) is within `max_deg` of, if any.
 std::optional<std::pair<int, double>> near_axis(const Eigen::Vector3d& v, double max_deg) {
   int axis = 0;
   v.cwiseAbs().maxCoeff(&axis);
-  const double angle = std::acos(std::min(1.0, std::abs(v[axis]))) * kDeg;
+  const double angle = std::acos(std::min(1.0, std::abs(v[axis]))) * kDegreesPerRadian;
   if (angle > max_deg) return std::nullopt;
   return std::pair{axis, v[axis] < 0 ? -1.0 : 1.0};
 }

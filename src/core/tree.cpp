@@ -68,10 +68,6 @@ std::string child_path(const std::string& parent, std::size_t k) {
   return parent + ".children[" + std::to_string(k) + "]";
 }
 
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
 bool valid_primitive(PrimitiveType t) {
   return static_cast<std::size_t>(t) < all_primitives().size();
 }
@@ -167,11 +163,12 @@ class Validator {
       const auto a = static_cast<std::size_t>(k);
       for (const auto& [name, v] : {std::pair{"min", d.min[a]}, std::pair{"max", d.max[a]}}) {
         if (!std::isfinite(v)) {
-          fail_at(indexed(at + "." + name, a), "must be finite (got " + shortest_number(v) + ")");
+          fail_at(indexed_path(at + "." + name, a),
+                  "must be finite (got " + shortest_number(v) + ")");
         }
       }
       if (!(d.min[a] < d.max[a])) {
-        fail_at(indexed(at + ".max", a),
+        fail_at(indexed_path(at + ".max", a),
                 "must be greater than " + label + ".min[" + std::to_string(k) + "] = " +
                     shortest_number(d.min[a]) + " (got " + shortest_number(d.max[a]) + ")");
       }
@@ -215,7 +212,7 @@ class Validator {
       }
     }
     for (std::size_t i = 0; i < n; ++i) {
-      if (!reached[i]) fail_at(indexed("nodes", i), "is not reachable from the root");
+      if (!reached[i]) fail_at(indexed_path("nodes", i), "is not reachable from the root");
     }
   }
 
@@ -256,7 +253,7 @@ class Validator {
                std::to_string(placement.translate.size()) + ")");
     }
     for (std::size_t k = 0; k < placement.translate.size(); ++k) {
-      use(placement.translate[k], i, indexed("translate", k), translate.range);
+      use(placement.translate[k], i, indexed_path("translate", k), translate.range);
     }
     const FieldSpec rotate = fields::rotate(dim);
     if (!placement.rotate.empty() && static_cast<int>(placement.rotate.size()) != rotate.length) {
@@ -265,8 +262,8 @@ class Validator {
                " (got " + std::to_string(placement.rotate.size()) + ")");
     }
     for (std::size_t k = 0; k < placement.rotate.size(); ++k) {
-      use(placement.rotate[k], i, rotate.arity == Arity::kScalar ? "rotate" : indexed("rotate", k),
-          rotate.range);
+      use(placement.rotate[k], i,
+          rotate.arity == Arity::kScalar ? "rotate" : indexed_path("rotate", k), rotate.range);
     }
     if (placement.scale) use(*placement.scale, i, "scale", fields::kScale.range);
 
@@ -300,7 +297,7 @@ class Validator {
       }
       for (std::size_t k = 0; k < hidden.size(); ++k) {
         if (!fields::kMlpHiddenWidth.contains(hidden[k])) {
-          fail(i, indexed("hidden", k),
+          fail(i, indexed_path("hidden", k),
                fields::kMlpHiddenWidth.describe() + " (got " + std::to_string(hidden[k]) + ")");
         }
       }
@@ -346,9 +343,9 @@ class Validator {
       for (std::size_t k = 0; k < count; ++k) {
         std::string f = name;
         if (field.arity == Arity::kPoints2) {
-          f = indexed(indexed(name, k / 2), k % 2);
+          f = indexed_path(indexed_path(name, k / 2), k % 2);
         } else if (field.arity != Arity::kScalar) {
-          f = indexed(name, k);
+          f = indexed_path(name, k);
         }
         use(theta[offset + k], i, std::move(f), field.range);
       }
@@ -453,7 +450,8 @@ class Validator {
       if (node.unified.size() != 4) {
         fail(i, name, "needs 4 numbers (got " + std::to_string(node.unified.size()) + ")");
       }
-      for (std::size_t k = 0; k < 4; ++k) use(node.unified[k], i, indexed(name, k), field.range);
+      for (std::size_t k = 0; k < 4; ++k)
+        use(node.unified[k], i, indexed_path(name, k), field.range);
       if (node.unified_logits) {
         use_optional(node.temperature, i, "temperature", fields::kTemperature.range);
         use_optional(node.omega, i, "omega", fields::kOmega.range);
@@ -493,7 +491,7 @@ class Validator {
     std::string list;
     for (std::size_t k = 0; k < cells.size(); ++k) {
       if (!per_axis.contains(cells[k])) {
-        fail(i, indexed("cells", k),
+        fail(i, indexed_path("cells", k),
              per_axis.describe() + " for degree " + std::to_string(degree) + " (got " +
                  std::to_string(cells[k]) + ")");
       }
@@ -549,6 +547,10 @@ void validate(const Tree& tree, std::string_view source) { Validator(tree, sourc
 // ---------------------------------------------------------------------------------------------
 // Paths and counts
 
+std::string indexed_path(const std::string& path, std::size_t i) {
+  return path + "[" + std::to_string(i) + "]";
+}
+
 std::vector<std::string> node_paths(const Tree& tree) {
   const std::size_t n = tree.nodes.size();
   std::vector<std::string> paths(n);
@@ -575,7 +577,7 @@ std::vector<std::string> node_paths(const Tree& tree) {
   }
   // Nodes the root does not reach are named by their index.
   for (std::size_t i = 0; i < n; ++i) {
-    if (!reached[i]) paths[i] = indexed("nodes", i);
+    if (!reached[i]) paths[i] = indexed_path("nodes", i);
   }
   return paths;
 }

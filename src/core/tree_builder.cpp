@@ -14,10 +14,6 @@ namespace fuzzycsg {
 
 namespace {
 
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
 // A box as a file holds it: the axes past dim at the defaults of Domain.
 Domain file_box(const Domain& box, int dim) {
   Domain out;
@@ -57,7 +53,7 @@ class Canonicaliser {
       out_.nodes.push_back(node.kind == NodeKind::kPrimitive ? leaf(node, item.path)
                                                              : op(node, item.path));
       for (std::size_t k = node.children.size(); k-- > 0;) {
-        stack.push_back(Item{node.children[k], indexed(item.path + ".children", k), index});
+        stack.push_back(Item{node.children[k], indexed_path(item.path + ".children", k), index});
       }
     }
     out_.root = 0;
@@ -118,7 +114,7 @@ class Canonicaliser {
     std::vector<ParamRef> out;
     out.reserve(refs.size());
     for (std::size_t k = 0; k < refs.size(); ++k)
-      out.push_back(use(refs[k], indexed(name, k), range));
+      out.push_back(use(refs[k], indexed_path(name, k), range));
     return out;
   }
 
@@ -150,7 +146,7 @@ class Canonicaliser {
         case Arity::kPoints2: {  // [x, y] pairs: "vertices[k][0]", "vertices[k][1]"
           const std::size_t count = fields::variable_count(info, in.intrinsic.size());
           for (std::size_t k = 0; k + 1 < count; k += 2) {
-            const auto refs = use_all(theta.subspan(k, 2), indexed(p, k / 2), f.range);
+            const auto refs = use_all(theta.subspan(k, 2), indexed_path(p, k / 2), f.range);
             n.intrinsic.insert(n.intrinsic.end(), refs.begin(), refs.end());
           }
           theta = theta.subspan(count);

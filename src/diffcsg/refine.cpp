@@ -18,6 +18,8 @@ namespace fuzzycsg::diffcsg {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
 Vec3 rotate(const std::array<double, 9>& r, const Vec3& l) {
   return {r[0] * l[0] + r[1] * l[1] + r[2] * l[2], r[3] * l[0] + r[4] * l[1] + r[5] * l[2],
           r[6] * l[0] + r[7] * l[1] + r[8] * l[2]};
@@ -270,7 +272,6 @@ namespace {
 
 RefineResult refine_cmaes(const Tree& input, const RefineTarget& target, const RefineOptions& o,
                           const TessellationOptions& options) {
-  using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   RefineResult result;
   result.tree = crisp_model(input);
@@ -378,7 +379,6 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
     if (!(o.cmaes_sigma > 0)) throw InputError("refine: CMA-ES sigma: must be > 0");
     return refine_cmaes(input, target, o, options);
   }
-  using Clock = std::chrono::steady_clock;
   const auto since = [](Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
   };

@@ -30,8 +30,6 @@ using detail::parse_document;
 using detail::prefix;
 using detail::printable;
 using detail::quote;
-constexpr std::string_view kFormat = detail::kTreeFormat;
-constexpr int kVersion = detail::kTreeVersion;
 
 // A JSON value as it appears after "got" in messages.
 std::string describe(const Json& v) {
@@ -92,10 +90,6 @@ bool valid_parameter_name(const std::string& name) {
   });
 }
 
-std::string indexed(const std::string& path, std::size_t i) {
-  return path + "[" + std::to_string(i) + "]";
-}
-
 std::string field_path(const std::string& path, std::string_view field) {
   return path + "." + std::string(field);
 }
@@ -128,16 +122,17 @@ class Reader {
     }
     const Json* format = member(doc, "format");
     if (!format) fail("", "missing field \"format\" (expected \"fuzzycsg-tree\")");
-    if (!format->is_string() || format->get_ref<const std::string&>() != kFormat) {
+    if (!format->is_string() || format->get_ref<const std::string&>() != detail::kTreeFormat) {
       fail("format", "expected \"fuzzycsg-tree\" (got " + describe(*format) + ")");
     }
     const Json* version = member(doc, "version");
     if (!version) fail("", "missing field \"version\"");
     const auto v = integer_of(*version);
     if (!v) fail("version", "expected an integer (got " + describe(*version) + ")");
-    if (*v != kVersion) {
+    if (*v != detail::kTreeVersion) {
       fail("version", "unsupported version " + describe(*version) +
-                          " (this program reads version " + std::to_string(kVersion) + ")");
+                          " (this program reads version " + std::to_string(detail::kTreeVersion) +
+                          ")");
     }
     for (const auto& [key, value] : doc.items()) {
       if (key != "format" && key != "version" && key != "dim" && key != "domain" &&
@@ -222,7 +217,7 @@ class Reader {
     }
     std::vector<Number> numbers;
     numbers.reserve(n);
-    for (std::size_t k = 0; k < n; ++k) numbers.push_back(read_number(v[k], indexed(path, k)));
+    for (std::size_t k = 0; k < n; ++k) numbers.push_back(read_number(v[k], indexed_path(path, k)));
     return numbers;
   }
 
@@ -298,7 +293,7 @@ class Reader {
       for (std::size_t k = 0; k < n; ++k) {
         const Json& x = (*a)[k];
         if (!x.is_number()) {
-          fail(indexed(path, k), "expected a number (got " + describe(x) + ")");
+          fail(indexed_path(path, k), "expected a number (got " + describe(x) + ")");
         }
         (*out)[k] = x.get<double>();
       }
@@ -377,7 +372,7 @@ class Reader {
         }
         layers.clear();
         for (std::size_t k = 0; k < hidden->size(); ++k) {
-          layers.push_back(read_int((*hidden)[k], indexed(p, k), fields::kMlpHiddenWidth));
+          layers.push_back(read_int((*hidden)[k], indexed_path(p, k), fields::kMlpHiddenWidth));
         }
       }
     }
@@ -420,14 +415,14 @@ class Reader {
           for (std::size_t k = 0; k < f->size(); ++k) {
             const Json& vertex = (*f)[k];
             if (!vertex.is_array() || vertex.size() != 2) {
-              fail(indexed(p, k),
+              fail(indexed_path(p, k),
                    "expected an [x, y] pair (got " +
                        (vertex.is_array()
                             ? "an array of " + std::to_string(vertex.size()) + " elements"
                             : describe(vertex)) +
                        ")");
             }
-            const auto numbers = read_numbers(vertex, indexed(p, k), 2);
+            const auto numbers = read_numbers(vertex, indexed_path(p, k), 2);
             intrinsic.insert(intrinsic.end(), numbers.begin(), numbers.end());
           }
           break;
@@ -594,7 +589,7 @@ class Reader {
     }
     std::vector<int> nodes;
     for (std::size_t k = 0; k < children->size(); ++k) {
-      nodes.push_back(read_node((*children)[k], indexed(children_path, k), depth + 1));
+      nodes.push_back(read_node((*children)[k], indexed_path(children_path, k), depth + 1));
     }
     const int index = make_operator(node, std::move(nodes));
     if (name) builder_->name(index, *name);
@@ -682,11 +677,11 @@ class Reader {
     for (std::size_t k = 0; k < cells->size(); ++k) {
       const Json& c = (*cells)[k];
       const auto n = integer_of(c);
-      if (!n) fail(indexed(cells_path, k), "expected an integer (got " + describe(c) + ")");
+      if (!n) fail(indexed_path(cells_path, k), "expected an integer (got " + describe(c) + ")");
       if (!range.contains(static_cast<double>(*n))) {
-        fail(indexed(cells_path, k), range.describe() + " for degree " +
-                                         std::to_string(node.degree) + " (got " + describe(c) +
-                                         ")");
+        fail(indexed_path(cells_path, k), range.describe() + " for degree " +
+                                              std::to_string(node.degree) + " (got " + describe(c) +
+                                              ")");
       }
       node.cells.push_back(static_cast<int>(*n));
     }

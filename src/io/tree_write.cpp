@@ -18,8 +18,6 @@ namespace {
 
 using Json = nlohmann::json;
 using detail::kMaxTreeDepth;
-constexpr std::string_view kFormat = detail::kTreeFormat;
-constexpr int kVersion = detail::kTreeVersion;
 
 // ---------------------------------------------------------------------------------------------
 // Writing
@@ -81,9 +79,9 @@ class Writer {
   std::string write() {
     printer_.begin_object();
     printer_.key("format");
-    printer_.raw(json_string(kFormat));
+    printer_.raw(json_string(detail::kTreeFormat));
     printer_.key("version");
-    printer_.raw(std::to_string(kVersion));
+    printer_.raw(std::to_string(detail::kTreeVersion));
     printer_.key("dim");
     printer_.raw(std::to_string(tree_.dim));
     if (tree_.domain) box("domain", *tree_.domain);

@@ -15,7 +15,9 @@
 
 namespace fuzzycsg {
 
-namespace {
+// Types of BoundsProgram::Impl (named, not anonymous: a member's type must not have internal
+// linkage).
+namespace bounds_detail {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -51,7 +53,11 @@ struct Item {
   std::array<double, 3> box_lo{}, box_scale{};
 };
 
-}  // namespace
+}  // namespace bounds_detail
+
+using bounds_detail::Item;
+using bounds_detail::kInf;
+using bounds_detail::LeafBound;
 
 struct BoundsProgram::Impl {
   int dim = 3;

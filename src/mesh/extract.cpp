@@ -92,8 +92,7 @@ struct CellBox {
 class Extractor {
  public:
   Extractor(const Tree& tree, std::span<const double> params, const MeshOptions& o)
-      : tree_(tree),
-        params_(params),
+      : params_(params),
         o_(o),
         grid_(make_grid(tree, o)),
         bounds_(tree, params),
@@ -297,7 +296,6 @@ class Extractor {
     return true;
   }
 
-  const Tree& tree_;
   std::span<const double> params_;
   MeshOptions o_;
   Grid grid_;

@@ -10,12 +10,12 @@
 
 namespace fuzzycsg::mesh_detail {
 
-namespace {
-
 // B(x, y) = a x + b y + d x y for the operators that are bilinear.
 struct Bilinear {
   double a = 0, b = 0, d = 0;
 };
+
+namespace {
 
 // The largest |a + d t| for t in [lo, hi] (linear in t: at an end).
 double slope_bound(double a, double d, const Interval& t) {

@@ -15,16 +15,12 @@
 
 namespace fuzzycsg::render_detail {
 
-namespace {
-
 struct DeviceDeleter {
   void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
 };
 struct SceneDeleter {
   void operator()(RTCScene s) const { rtcReleaseScene(s); }
 };
-
-}  // namespace
 
 void check_camera_geometry(const Camera& c) {
   const Vec forward = sub(c.target, c.eye);

@@ -87,9 +87,10 @@ template <class Interval, class F>
       // up to 1e6) the interval decides; near one, the point test does.
       // (Non-short-circuit operators, so that the loop has no branches.)
       const double ca = std::ceil(a), fb = std::floor(b);
-      const bool sure = (std::abs(a) < 1e6) & (std::abs(b) < 1e6) &
-                        (std::abs(a - std::floor(a + 0.5)) > 1e-7) &
-                        (std::abs(b - std::floor(b + 0.5)) > 1e-7);
+      const bool a_small = std::abs(a) < 1e6, b_small = std::abs(b) < 1e6;
+      const bool a_off = std::abs(a - std::floor(a + 0.5)) > 1e-7;
+      const bool b_off = std::abs(b - std::floor(b + 0.5)) > 1e-7;
+      const bool sure = a_small & b_small & a_off & b_off;
       const bool none = !(lo[k] < hi[k]);  // also NaN
       near[k] = (!none) & (!sure);
       c0[k] = static_cast<int>(sure ? ca : 0.0);

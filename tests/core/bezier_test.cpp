@@ -16,13 +16,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/profiles.hpp"
 #include "fuzzycsg/core/error.hpp"
 
 namespace fuzzycsg {
 namespace {
 
 using Vec = std::vector<double>;
-constexpr double kPi = std::numbers::pi;
 
 // A random profile of `segments` segments: its 3n points spread around the origin.
 Vec random_profile(std::mt19937& rng, int segments) {
@@ -30,7 +30,7 @@ Vec random_profile(std::mt19937& rng, int segments) {
   Vec c;
   const int points = 3 * segments;
   for (int i = 0; i < points; ++i) {
-    const double a = 2 * kPi * (i + jitter(rng)) / points;
+    const double a = 2 * std::numbers::pi * (i + jitter(rng)) / points;
     const double r = radius(rng);
     c.push_back(r * std::cos(a));
     c.push_back(r * std::sin(a));
@@ -38,20 +38,7 @@ Vec random_profile(std::mt19937& rng, int segments) {
   return c;
 }
 
-// The profile of the closed polygon `corners` with each edge a straight Bézier segment
-// (controls at its thirds).
-Vec straight_profile(const Vec& corners) {
-  const std::size_t n = corners.size() / 2;
-  Vec c;
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t m = (k + 1) % n;
-    for (int j = 0; j < 3; ++j) {
-      c.push_back(corners[2 * k] + j * (corners[2 * m] - corners[2 * k]) / 3.0);
-      c.push_back(corners[2 * k + 1] + j * (corners[2 * m + 1] - corners[2 * k + 1]) / 3.0);
-    }
-  }
-  return c;
-}
+using test::straight_profile;
 
 // A D: a straight side from (0, -1) up to (0, 1) (controls at thirds), then a cubic bulging to
 // +x back down to (0, -1).
@@ -255,7 +242,7 @@ Vec comb(int teeth) {
 Vec star(int tips, double inner, double outer) {
   Vec p;
   for (int i = 0; i < 2 * tips; ++i) {
-    const double a = kPi * i / tips;
+    const double a = std::numbers::pi * i / tips;
     const double r = i % 2 == 0 ? outer : inner;
     p.push_back(r * std::cos(a));
     p.push_back(r * std::sin(a));
@@ -266,8 +253,8 @@ Vec star(int tips, double inner, double outer) {
 TEST(Triangulate, ConvexConcaveAndSampledPolygonsInBothOrientations) {
   Vec hexagon;
   for (int i = 0; i < 6; ++i) {
-    hexagon.push_back(std::cos(kPi * i / 3));
-    hexagon.push_back(std::sin(kPi * i / 3));
+    hexagon.push_back(std::cos(std::numbers::pi * i / 3));
+    hexagon.push_back(std::sin(std::numbers::pi * i / 3));
   }
   const Vec l_shape = {0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2};
   // A square with a point on each side (collinear points) and a rounded slot sampled from its
@@ -306,7 +293,7 @@ TEST(Triangulate, RandomStarShapedPolygons) {
     const int n = 5 + trial * 3;
     Vec p;
     for (int i = 0; i < n; ++i) {
-      const double a = 2 * kPi * (i + jitter(rng)) / n;
+      const double a = 2 * std::numbers::pi * (i + jitter(rng)) / n;
       const double r = radius(rng);
       p.push_back(r * std::cos(a));
       p.push_back(r * std::sin(a));

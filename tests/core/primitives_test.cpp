@@ -16,13 +16,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/profiles.hpp"
 #include "fuzzycsg/core/bezier.hpp"
 
 namespace fuzzycsg {
 namespace {
 
 using Vec = std::vector<double>;
-constexpr double kPi = std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 constexpr std::array kAllTypes{
@@ -127,7 +127,7 @@ Vec random_polygon(std::mt19937& rng) {
   const int n = std::uniform_int_distribution<int>(5, 9)(rng);
   Vec v;
   for (int i = 0; i < n; ++i) {
-    const double a = 2.0 * kPi * (i + uniform(rng, 0.1, 0.9)) / n;
+    const double a = 2.0 * std::numbers::pi * (i + uniform(rng, 0.1, 0.9)) / n;
     const double r = uniform(rng, 0.35, 1.1);
     v.push_back(r * std::cos(a));
     v.push_back(r * std::sin(a));
@@ -151,7 +151,7 @@ Vec random_profile(std::mt19937& rng) {
   const double turn = uniform(rng, 0.0, 1.0) < 0.5 ? 1.0 : -1.0;
   Vec c;
   for (int i = 0; i < points; ++i) {
-    const double a = turn * 2.0 * kPi * (i + uniform(rng, 0.15, 0.85)) / points;
+    const double a = turn * 2.0 * std::numbers::pi * (i + uniform(rng, 0.15, 0.85)) / points;
     const double r = uniform(rng, 0.5, 1.0);
     c.push_back(r * std::cos(a));
     c.push_back(r * std::sin(a));
@@ -165,20 +165,7 @@ Vec extrude_theta(Vec profile, double height) {
   return profile;
 }
 
-// The profile of the closed polygon `corners` with each edge a straight Bézier segment (its
-// controls at the edge's thirds).
-Vec straight_profile(const Vec& corners) {
-  const std::size_t n = corners.size() / 2;
-  Vec c;
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t m = (k + 1) % n;
-    for (int j = 0; j < 3; ++j) {
-      c.push_back(corners[2 * k] + j * (corners[2 * m] - corners[2 * k]) / 3.0);
-      c.push_back(corners[2 * k + 1] + j * (corners[2 * m + 1] - corners[2 * k + 1]) / 3.0);
-    }
-  }
-  return c;
-}
+using test::straight_profile;
 
 // The profile (without the height) of an extrude's parameters.
 Vec profile_of(const Vec& theta) { return Vec(theta.begin(), theta.end() - 1); }
@@ -499,8 +486,8 @@ TEST(PrimitiveValues, ExtrudeOfStraightEdgesIsThePolygonPrism) {
   Vec star;
   for (int i = 0; i < 10; ++i) {
     const double r = i % 2 == 0 ? 1.0 : 0.4;
-    star.push_back(r * std::cos(kPi * i / 5));
-    star.push_back(r * std::sin(kPi * i / 5));
+    star.push_back(r * std::cos(std::numbers::pi * i / 5));
+    star.push_back(r * std::sin(std::numbers::pi * i / 5));
   }
   for (const Vec& corners : {l_shape, star}) {
     const double h = 0.7;
@@ -593,13 +580,13 @@ SurfacePoint surface_point(PrimitiveType t, const Vec& th, std::mt19937& rng) {
       return {p};
     }
     case PrimitiveType::kCylinder: {
-      const double a = u(0, 2 * kPi);
+      const double a = u(0, 2 * std::numbers::pi);
       if (u(0, 1) < 0.5) return {{th[0] * std::cos(a), th[0] * std::sin(a), u(-0.5, 0.5) * th[1]}};
       const double r = th[0] * std::sqrt(u(0, 1));
       return {{r * std::cos(a), r * std::sin(a), (u(0, 1) < 0.5 ? -0.5 : 0.5) * th[1]}};
     }
     case PrimitiveType::kCone: {
-      const double a = u(0, 2 * kPi);
+      const double a = u(0, 2 * std::numbers::pi);
       const double h = th[2];
       const double c = u(0, 1);
       if (c < 0.6) {
@@ -612,15 +599,15 @@ SurfacePoint surface_point(PrimitiveType t, const Vec& th, std::mt19937& rng) {
       return {{r * std::cos(a), r * std::sin(a), (top ? 0.5 : -0.5) * h}};
     }
     case PrimitiveType::kTorus: {
-      const double a = u(0, 2 * kPi);
-      const double b = u(0, 2 * kPi);
+      const double a = u(0, 2 * std::numbers::pi);
+      const double b = u(0, 2 * std::numbers::pi);
       const double r = th[0] + th[1] * std::cos(b);
       return {{r * std::cos(a), r * std::sin(a), th[1] * std::sin(b)}};
     }
     case PrimitiveType::kCapsule: {
       Vec d = random_unit(rng, 3);
       if (u(0, 1) < 0.5) {  // the side
-        const double a = u(0, 2 * kPi);
+        const double a = u(0, 2 * std::numbers::pi);
         return {{th[0] * std::cos(a), th[0] * std::sin(a), u(-0.5, 0.5) * th[1]}};
       }
       const double end = d[2] < 0 ? -0.5 * th[1] : 0.5 * th[1];  // a hemispherical end
@@ -631,7 +618,7 @@ SurfacePoint surface_point(PrimitiveType t, const Vec& th, std::mt19937& rng) {
       return {{th[0] * d[0], th[1] * d[1], th[2] * d[2]}};
     }
     case PrimitiveType::kEllipse: {
-      const double a = u(0, 2 * kPi);
+      const double a = u(0, 2 * std::numbers::pi);
       return {{th[0] * std::cos(a), th[1] * std::sin(a)}};
     }
     case PrimitiveType::kPlane:
@@ -745,7 +732,7 @@ TEST(PrimitiveExactness, ConeMatchesBruteForce) {
     const Instance in = make(PrimitiveType::kCone, th);
     std::vector<Vec> samples;
     for (int i = 0; i < na; ++i) {
-      const double a = 2 * kPi * i / na;
+      const double a = 2 * std::numbers::pi * i / na;
       for (int j = 0; j <= nz; ++j) {
         const double s = static_cast<double>(j) / nz;
         const double r = th[0] + (th[1] - th[0]) * s;
@@ -757,7 +744,7 @@ TEST(PrimitiveExactness, ConeMatchesBruteForce) {
         samples.push_back({s * th[1] * std::cos(a), s * th[1] * std::sin(a), 0.5 * th[2]});
       }
     }
-    const double cover = 0.5 * std::hypot(2 * kPi * 0.9 / na, 2.0 / nz);
+    const double cover = 0.5 * std::hypot(2 * std::numbers::pi * 0.9 / na, 2.0 / nz);
     auto inside = [](const Vec& t, const Vec& p) {
       const double s = (p[2] + 0.5 * t[2]) / t[2];
       return s >= 0 && s <= 1 && std::hypot(p[0], p[1]) <= t[0] + (t[1] - t[0]) * s;
@@ -774,13 +761,14 @@ TEST(PrimitiveExactness, TorusMatchesBruteForce) {
   std::vector<Vec> samples;
   for (int i = 0; i < na; ++i) {
     for (int j = 0; j < nb; ++j) {
-      const double a = 2 * kPi * i / na;
-      const double b = 2 * kPi * j / nb;
+      const double a = 2 * std::numbers::pi * i / na;
+      const double b = 2 * std::numbers::pi * j / nb;
       const double r = th[0] + th[1] * std::cos(b);
       samples.push_back({r * std::cos(a), r * std::sin(a), th[1] * std::sin(b)});
     }
   }
-  const double cover = 0.5 * std::hypot(2 * kPi * 1.1 / na, 2 * kPi * 0.3 / nb);
+  const double cover =
+      0.5 * std::hypot(2 * std::numbers::pi * 1.1 / na, 2 * std::numbers::pi * 0.3 / nb);
   auto inside = [](const Vec& t, const Vec& p) {
     return std::hypot(std::hypot(p[0], p[1]) - t[0], p[2]) <= t[1];
   };
@@ -794,7 +782,7 @@ TEST(PrimitiveExactness, CylinderMatchesBruteForce) {
   const int na = 360, nz = 140, nr = 60;
   std::vector<Vec> samples;
   for (int i = 0; i < na; ++i) {
-    const double a = 2 * kPi * i / na;
+    const double a = 2 * std::numbers::pi * i / na;
     for (int j = 0; j <= nz; ++j) {
       samples.push_back({0.6 * std::cos(a), 0.6 * std::sin(a), -0.7 + 1.4 * j / nz});
     }
@@ -804,7 +792,7 @@ TEST(PrimitiveExactness, CylinderMatchesBruteForce) {
       samples.push_back({r * std::cos(a), r * std::sin(a), 0.7});
     }
   }
-  const double cover = 0.5 * std::hypot(2 * kPi * 0.6 / na, 1.4 / nz);
+  const double cover = 0.5 * std::hypot(2 * std::numbers::pi * 0.6 / na, 1.4 / nz);
   auto inside = [](const Vec& t, const Vec& p) {
     return std::hypot(p[0], p[1]) <= t[0] && std::abs(p[2]) <= 0.5 * t[1];
   };
@@ -819,11 +807,11 @@ bool polygon_contains(const Vec& v, const Vec& p) {
     const std::size_t j = (i + 1) % n;
     const double a = std::atan2(v[2 * i + 1] - p[1], v[2 * i] - p[0]);
     double d = std::atan2(v[2 * j + 1] - p[1], v[2 * j] - p[0]) - a;
-    while (d > kPi) d -= 2 * kPi;
-    while (d < -kPi) d += 2 * kPi;
+    while (d > std::numbers::pi) d -= 2 * std::numbers::pi;
+    while (d < -std::numbers::pi) d += 2 * std::numbers::pi;
     total += d;
   }
-  return std::abs(total) > kPi;
+  return std::abs(total) > std::numbers::pi;
 }
 
 TEST(PrimitiveExactness, PolygonMatchesBruteForce) {
@@ -900,10 +888,10 @@ TEST(PrimitiveExactness, EllipseMatchesBruteForce) {
     std::vector<Vec> samples;
     const int n = 40000;
     for (int i = 0; i < n; ++i) {
-      const double a = 2 * kPi * i / n;
+      const double a = 2 * std::numbers::pi * i / n;
       samples.push_back({th[0] * std::cos(a), th[1] * std::sin(a)});
     }
-    const double cover = kPi * std::max(th[0], th[1]) / n;
+    const double cover = std::numbers::pi * std::max(th[0], th[1]) / n;
     auto inside = [](const Vec& t, const Vec& p) {
       return (p[0] / t[0]) * (p[0] / t[0]) + (p[1] / t[1]) * (p[1] / t[1]) <= 1.0;
     };

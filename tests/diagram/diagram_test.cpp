@@ -26,7 +26,7 @@ Tree example(const char* name) {
 // The DOT text read back by Graphviz's own parser.
 struct ParsedDot {
   struct Deleter {
-    void operator()(Agraph_t* g) const { agclose(g); }
+    void operator()(Agraph_t* graph) const { agclose(graph); }
   };
   std::unique_ptr<Agraph_t, Deleter> g;
   explicit ParsedDot(const std::string& dot) : g(agmemread(dot.c_str())) {}

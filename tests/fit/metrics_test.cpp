@@ -31,7 +31,7 @@ Tree circle(double radius, const std::string& step) {
                               std::to_string(radius) + ", " + step + "}}");
 }
 
-MetricsOptions options(std::size_t points, bool chamfer = false) {
+MetricsOptions metrics_options(std::size_t points, bool chamfer = false) {
   MetricsOptions o;
   o.points = points;
   o.seed = 5;
@@ -49,7 +49,8 @@ Metrics measure_tree(const Tree& tree, const Target& target, const MetricsOption
 TEST(Metrics, CrispSphereAgainstTheSameBall) {
   const BallTarget ball(3, {0, 0, 0}, 0.5);
   // More points than one batch, and not a multiple of it.
-  const Metrics m = measure_tree(sphere(0.5, 0, R"("step": "crisp")"), ball, options(300001));
+  const Metrics m =
+      measure_tree(sphere(0.5, 0, R"("step": "crisp")"), ball, metrics_options(300001));
   EXPECT_EQ(m.points, 300001u);
   EXPECT_LT(m.mse, 1e-5);
   EXPECT_GT(m.iou, 0.9999);
@@ -73,7 +74,7 @@ TEST(Metrics, SigmoidSphereMseIsTheSmoothingError) {
   }
   const double expected = integral / 8.0;
   const BallTarget ball(3, {0, 0, 0}, r);
-  const Metrics m = measure_tree(sphere(r, 0, R"("sharpness": 20)"), ball, options(400000));
+  const Metrics m = measure_tree(sphere(r, 0, R"("sharpness": 20)"), ball, metrics_options(400000));
   EXPECT_NEAR(m.mse, expected, 0.03 * expected) << "expected " << expected;
   EXPECT_GT(m.iou, 0.999);  // the 0.5 level set is the sphere itself
 }
@@ -85,7 +86,8 @@ TEST(Metrics, IouOfShiftedBallsIsTheLensRatio) {
   const double ball = 4.0 / 3.0 * std::numbers::pi * R * R * R;
   const double expected = lens / (2 * ball - lens);
   const BallTarget target(3, {0, 0, 0}, R);
-  const Metrics m = measure_tree(sphere(R, d, R"("step": "crisp")"), target, options(500000));
+  const Metrics m =
+      measure_tree(sphere(R, d, R"("step": "crisp")"), target, metrics_options(500000));
   // About 47,000 points fall in the union: the standard error of the ratio is about 0.002.
   EXPECT_NEAR(m.iou, expected, 0.008);
   // Crisp on both sides: the MSE is the volume fraction of the symmetric difference.
@@ -95,7 +97,7 @@ TEST(Metrics, IouOfShiftedBallsIsTheLensRatio) {
 TEST(Metrics, ChamferOfConcentricSpheresIsTheRadiusGap) {
   const BallTarget target(3, {0, 0, 0}, 0.6);
   const Metrics m =
-      measure_tree(sphere(0.5, 0, R"("sharpness": 50)"), target, options(10000, true));
+      measure_tree(sphere(0.5, 0, R"("sharpness": 50)"), target, metrics_options(10000, true));
   ASSERT_TRUE(m.chamfer.has_value());
   EXPECT_NEAR(*m.chamfer, 0.1, 0.005);
   // Every point of either sphere is 0.1 from the other: the worst place is the average.
@@ -103,7 +105,7 @@ TEST(Metrics, ChamferOfConcentricSpheresIsTheRadiusGap) {
   EXPECT_NEAR(*m.hausdorff, 0.1, 0.01);
   EXPECT_GE(*m.hausdorff, *m.chamfer);
   const Metrics same =
-      measure_tree(sphere(0.6, 0, R"("sharpness": 50)"), target, options(10000, true));
+      measure_tree(sphere(0.6, 0, R"("sharpness": 50)"), target, metrics_options(10000, true));
   ASSERT_TRUE(same.chamfer.has_value());
   EXPECT_LT(*same.chamfer, 0.01);
   // The sampling's error alone: a point of the surface is within a grid cell's diagonal
@@ -119,7 +121,7 @@ TEST(Metrics, HausdorffOfShiftedBallsIsTheShift) {
   const double d = 0.2;
   const BallTarget target(3, {0, 0, 0}, 0.5);
   const Metrics m =
-      measure_tree(sphere(0.5, d, R"("sharpness": 50)"), target, options(10000, true));
+      measure_tree(sphere(0.5, d, R"("sharpness": 50)"), target, metrics_options(10000, true));
   ASSERT_TRUE(m.hausdorff.has_value() && m.chamfer.has_value());
   EXPECT_NEAR(*m.hausdorff, d, 0.01);
   EXPECT_LT(*m.chamfer, 0.7 * d);
@@ -127,7 +129,7 @@ TEST(Metrics, HausdorffOfShiftedBallsIsTheShift) {
   const BallTarget disc(2, {0.1, 0}, 0.4);
   const Tree shifted = io::read_tree_string(R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2,
       "root": {"type": "circle", "radius": 0.4, "translate": [-0.2, 0], "sharpness": 50}})");
-  const Metrics m2 = measure_tree(shifted, disc, options(10000, true));
+  const Metrics m2 = measure_tree(shifted, disc, metrics_options(10000, true));
   ASSERT_TRUE(m2.hausdorff.has_value());
   EXPECT_NEAR(*m2.hausdorff, 0.3, 0.01);
 }
@@ -143,7 +145,7 @@ TEST(Metrics, HausdorffOfATreeAgainstItselfIsSmall) {
         {"type": "cylinder", "radius": 0.15, "height": 1.0, "rotate": [90, 0, 0]}]}})";
   const Tree tree = io::read_tree_string(text);
   const auto target = load_target(testing::write_temp("fuzzycsg_metrics_self.json", text));
-  MetricsOptions o = options(20000, true);
+  MetricsOptions o = metrics_options(20000, true);
   o.chamfer_resolution = 128;
   const Tree normalised = transformed(tree, target->normalisation());
   const Metrics self = measure_tree(normalised, *target, o);
@@ -161,11 +163,13 @@ TEST(Metrics, HausdorffOfATreeAgainstItselfIsSmall) {
 
 TEST(Metrics, ChamferInTwoDimensions) {
   const BallTarget disc(2, {0, 0}, 0.4);
-  const Metrics m = measure_tree(circle(0.7, R"("sharpness": 50)"), disc, options(10000, true));
+  const Metrics m =
+      measure_tree(circle(0.7, R"("sharpness": 50)"), disc, metrics_options(10000, true));
   ASSERT_TRUE(m.chamfer.has_value());
   EXPECT_NEAR(*m.chamfer, 0.3, 0.005);
   // Crisp leaves put every crossing mid-edge: the error is at most half a cell (1/64).
-  const Metrics crisp = measure_tree(circle(0.7, R"("step": "crisp")"), disc, options(10000, true));
+  const Metrics crisp =
+      measure_tree(circle(0.7, R"("step": "crisp")"), disc, metrics_options(10000, true));
   ASSERT_TRUE(crisp.chamfer.has_value());
   EXPECT_NEAR(*crisp.chamfer, 0.3, 1.0 / 64.0);
 }
@@ -173,13 +177,15 @@ TEST(Metrics, ChamferInTwoDimensions) {
 TEST(Metrics, NoLevelSetGivesNoChamfer) {
   // A sphere outside the domain: empty everywhere the metrics look.
   const Tree outside = sphere(0.2, 5.0, R"("step": "crisp")");
-  const Metrics m = measure_tree(outside, BallTarget(3, {0, 0, 0}, 0.5), options(100000, true));
+  const Metrics m =
+      measure_tree(outside, BallTarget(3, {0, 0, 0}, 0.5), metrics_options(100000, true));
   EXPECT_FALSE(m.chamfer.has_value());
   EXPECT_FALSE(m.hausdorff.has_value());
   EXPECT_EQ(m.iou, 0.0);
   EXPECT_NEAR(m.mse, 4.0 / 3.0 * std::numbers::pi * 0.125 / 8.0, 0.003);
   // Both empty: IoU 1 by definition.
-  const Metrics none = measure_tree(outside, BallTarget(3, {0, 0, 0}, 0.0), options(1000, true));
+  const Metrics none =
+      measure_tree(outside, BallTarget(3, {0, 0, 0}, 0.0), metrics_options(1000, true));
   EXPECT_EQ(none.iou, 1.0);
   EXPECT_EQ(none.mse, 0.0);
 }
@@ -187,7 +193,7 @@ TEST(Metrics, NoLevelSetGivesNoChamfer) {
 TEST(Metrics, DeterministicGivenTheSeed) {
   const BallTarget target(3, {0.1, 0, 0}, 0.5);
   const Tree t = sphere(0.45, 0, R"("sharpness": 30)");
-  MetricsOptions o = options(300000, true);
+  MetricsOptions o = metrics_options(300000, true);
   const Metrics a = measure_tree(t, target, o);
   o.threads = 1;
   const Metrics b = measure_tree(t, target, o);
@@ -205,10 +211,10 @@ TEST(Metrics, DeterministicGivenTheSeed) {
 
 TEST(Metrics, RejectsMismatchedInput) {
   const Tree t = sphere(0.5, 0, R"("step": "crisp")");
-  EXPECT_THROW(measure_tree(t, BallTarget(2, {0, 0}, 0.5), options(10)), InputError);
-  EXPECT_THROW(measure_tree(t, BallTarget(3, {0, 0, 0}, 0.5), options(0)), InputError);
+  EXPECT_THROW(measure_tree(t, BallTarget(2, {0, 0}, 0.5), metrics_options(10)), InputError);
+  EXPECT_THROW(measure_tree(t, BallTarget(3, {0, 0, 0}, 0.5), metrics_options(0)), InputError);
   const std::vector<double> wrong(2, 0.0);
-  EXPECT_THROW(measure(t, wrong, BallTarget(3, {0, 0, 0}, 0.5), options(10)), InputError);
+  EXPECT_THROW(measure(t, wrong, BallTarget(3, {0, 0, 0}, 0.5), metrics_options(10)), InputError);
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ class TurnsNanTarget : public testing::BallTarget {
   mutable std::atomic<int> calls_{0};
 };
 
-FitOptions options(long iters) {
+FitOptions fit_options(long iters) {
   FitOptions o;
   o.prims = 4;
   o.iters = iters;
@@ -55,7 +55,7 @@ TEST(NonFinite, RollsBackToTheLastStepWithAFiniteLoss) {
     saved_steps.push_back(st.step);
     last_saved = st;
   };
-  const FitResult r = fit(bad, options(300), hooks);
+  const FitResult r = fit(bad, fit_options(300), hooks);
   EXPECT_EQ(r.stop, StopReason::kNonFinite);
   EXPECT_EQ(r.nonfinite_step, 8);
   EXPECT_EQ(r.last_good_step, 6);
@@ -65,7 +65,7 @@ TEST(NonFinite, RollsBackToTheLastStepWithAFiniteLoss) {
 
   // The same as six steps on the target that never fails: parameters, moments, loss curve.
   const testing::BallTarget good(2, {0.1, 0}, 0.5);
-  const FitResult six = fit(good, options(6));
+  const FitResult six = fit(good, fit_options(6));
   EXPECT_EQ(r.state.params, six.state.params);
   EXPECT_EQ(r.state.m, six.state.m);
   EXPECT_EQ(r.state.v, six.state.v);
@@ -77,8 +77,8 @@ TEST(NonFinite, RollsBackToTheLastStepWithAFiniteLoss) {
   EXPECT_EQ(r.trained.params.values(), six.trained.params.values());
 
   // Resumed on the good target, it continues as an uninterrupted run.
-  const FitResult resumed = fit(good, options(20), {}, &r.state);
-  const FitResult straight = fit(good, options(20));
+  const FitResult resumed = fit(good, fit_options(20), {}, &r.state);
+  const FitResult straight = fit(good, fit_options(20));
   EXPECT_EQ(resumed.state.step, 20);
   EXPECT_EQ(resumed.trained.params.values(), straight.trained.params.values());
 }
@@ -89,22 +89,22 @@ TEST(NonFinite, AFirstStepThatFailsKeepsNothing) {
   FitHooks hooks;
   hooks.checkpoint_every = 1;
   hooks.checkpoint = [&](const Tree&, const TrainState&) { ++saves; };
-  const FitResult r = fit(bad, options(50), hooks);
+  const FitResult r = fit(bad, fit_options(50), hooks);
   EXPECT_EQ(r.stop, StopReason::kNonFinite);
   EXPECT_EQ(r.nonfinite_step, 1);
   EXPECT_EQ(r.last_good_step, 0);
   EXPECT_EQ(saves, 0);
-  EXPECT_EQ(r.state.params, make_initial_model(options(50), 2).params.values());
+  EXPECT_EQ(r.state.params, make_initial_model(fit_options(50), 2).params.values());
 }
 
 TEST(NonFinite, AResumedRunThatFailsAtOnceKeepsItsStart) {
   const testing::BallTarget good(2, {0.1, 0}, 0.5);
-  const FitResult start = fit(good, options(5));
+  const FitResult start = fit(good, fit_options(5));
   const TurnsNanTarget bad(0);  // the pool redrawn on resuming is NaN
   std::vector<long> saved_steps;
   FitHooks hooks;
   hooks.checkpoint = [&](const Tree&, const TrainState& st) { saved_steps.push_back(st.step); };
-  const FitResult r = fit(bad, options(50), hooks, &start.state);
+  const FitResult r = fit(bad, fit_options(50), hooks, &start.state);
   EXPECT_EQ(r.stop, StopReason::kNonFinite);
   EXPECT_EQ(r.nonfinite_step, 6);
   EXPECT_EQ(r.last_good_step, 5);

@@ -21,8 +21,6 @@ Checkpoint small_checkpoint(const FitOptions& options) {
   return testing::small_checkpoint(options, 3, "part.obj");
 }
 
-std::string read_error(const std::string& path) { return testing::checkpoint_read_error(path); }
-
 // The checkpoint's text with `"key": "value"` replaced by `replacement` (empty: removed).
 std::string edited(const std::string& text, const std::string& key, const std::string& value,
                    const std::string& replacement) {
@@ -90,19 +88,20 @@ TEST(OptionNames, BadNamesAndOlderCheckpoints) {
 
   const std::string bad_ops =
       write_temp("fuzzycsg_bad_ops.json", edited(good, "ops", "product", "\"ops\": \"fuzzy\","));
-  EXPECT_EQ(read_error(bad_ops), bad_ops + ": settings.ops: must be unified, product or godel");
+  EXPECT_EQ(testing::checkpoint_read_error(bad_ops),
+            bad_ops + ": settings.ops: must be unified, product or godel");
   const std::string bad_types =
       write_temp("fuzzycsg_bad_types.json",
                  edited(good, "op_types", "union-intersection", "\"op_types\": \"union\","));
-  EXPECT_EQ(read_error(bad_types),
+  EXPECT_EQ(testing::checkpoint_read_error(bad_types),
             bad_types + ": settings.op_types: must be all or union-intersection");
   const std::string number =
       write_temp("fuzzycsg_bad_init.json", edited(good, "init", "balls", "\"init\": 2,"));
-  EXPECT_NE(read_error(number).find("settings.init"), std::string::npos);
+  EXPECT_NE(testing::checkpoint_read_error(number).find("settings.init"), std::string::npos);
 
   // "ops" has always been written: a checkpoint without it is broken.
   const std::string no_ops = write_temp("fuzzycsg_no_ops.json", edited(good, "ops", "product", ""));
-  EXPECT_EQ(read_error(no_ops), no_ops + ": settings.ops: missing");
+  EXPECT_EQ(testing::checkpoint_read_error(no_ops), no_ops + ": settings.ops: missing");
   // The others came later; without them a checkpoint means App. A's choices.
   std::string older = edited(good, "op_init", "balanced", "");
   older = edited(older, "op_types", "union-intersection", "");

@@ -20,8 +20,6 @@ Checkpoint small_checkpoint(SamplingScheme scheme) {
   return testing::small_checkpoint(options, 2, "logo.png");
 }
 
-std::string read_error(const std::string& path) { return testing::checkpoint_read_error(path); }
-
 TEST(SamplerSettings, RoundTripThroughACheckpoint) {
   for (SamplingScheme scheme : {SamplingScheme::kAppendixA, SamplingScheme::kRelease}) {
     const std::string text = checkpoint_to_string(small_checkpoint(scheme));
@@ -46,17 +44,18 @@ TEST(SamplerSettings, OlderCheckpointsAndBadNames) {
   std::string older = good;
   older.erase(at, field.size());
   const std::string older_path = write_temp("fuzzycsg_scheme_older.json", older);
-  EXPECT_EQ(read_error(older_path), "no error");
+  EXPECT_EQ(testing::checkpoint_read_error(older_path), "no error");
   EXPECT_EQ(read_checkpoint(older_path).options.sampling.scheme, SamplingScheme::kAppendixA);
 
   std::string bad = good;
   bad.replace(at, field.size(), "\"scheme\": \"uniform\",");
   const std::string bad_path = write_temp("fuzzycsg_scheme_bad.json", bad);
-  EXPECT_EQ(read_error(bad_path),
+  EXPECT_EQ(testing::checkpoint_read_error(bad_path),
             bad_path + ": settings.sampling.scheme: must be appendix-a or release");
   bad.replace(bad.find("\"uniform\"", at), 9, "4");
   const std::string number_path = write_temp("fuzzycsg_scheme_number.json", bad);
-  EXPECT_NE(read_error(number_path).find("settings.sampling.scheme"), std::string::npos);
+  EXPECT_NE(testing::checkpoint_read_error(number_path).find("settings.sampling.scheme"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -11,9 +11,12 @@
 #include "fuzzycsg/fit/prune.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/target/target.hpp"
+#include "io/tree_text.hpp"
 
 namespace fuzzycsg {
 namespace {
+
+using test::tree2;
 
 using testing::mse;
 using testing::occupancy;
@@ -37,17 +40,13 @@ TEST(SplineFit, ASplineTreeIsATarget) {
   validate(r.pruned, "pruned");
 }
 
-std::string tree2(const std::string& root) {
-  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": )" + root + "}";
-}
-
-const std::vector<float>& points() {
+const std::vector<float>& points_2d() {
   static const std::vector<float> p = random_points(20000, 2, 21);
   return p;
 }
 
-Tree pruned(const Tree& tree, PruneReport* report = nullptr) {
-  return prune(tree, points(), PruneOptions{1e-3, 2}, report);
+Tree pruned_2d(const Tree& tree, PruneReport* report = nullptr) {
+  return prune(tree, points_2d(), PruneOptions{1e-3, 2}, report);
 }
 
 const std::string kDisc = R"({"type": "circle", "radius": 0.5, "sharpness": 20})";
@@ -68,7 +67,7 @@ TEST(SplinePrune, PrunesInsideChildrenAndStaysValid) {
       R"({"type": "circle", "radius": 0.4, "translate": [0.3, 0.2], "sharpness": 20})";
   const Tree tree = io::read_tree_string(tree2(spline({speckled, shifted, kFar, kDisc})), "t");
   PruneReport report;
-  const Tree out = pruned(tree, &report);
+  const Tree out = pruned_2d(tree, &report);
   validate(out, "pruned");
   const Node& root = out.node(out.root);
   ASSERT_EQ(root.op, OpKind::kSpline);
@@ -77,7 +76,7 @@ TEST(SplinePrune, PrunesInsideChildrenAndStaysValid) {
   EXPECT_EQ(out.node(root.children[2]).kind, NodeKind::kPrimitive);  // the speck, kept
   EXPECT_EQ(report.operators_before, 2);
   EXPECT_EQ(report.operators_after, 1);
-  EXPECT_LT(mse(occupancy(tree, points()), occupancy(out, points())), 1e-3);
+  EXPECT_LT(mse(occupancy(tree, points_2d()), occupancy(out, points_2d())), 1e-3);
   // Written and read back (prune returns canonical trees).
   EXPECT_EQ(io::write_tree_string(io::read_tree_string(io::write_tree_string(out), "back")),
             io::write_tree_string(out));
@@ -87,28 +86,28 @@ TEST(SplinePrune, PrunesInsideChildrenAndStaysValid) {
 // empty; a spline below a union that another child covers goes with the union.
 TEST(SplinePrune, SimplifiesTheNodeItself) {
   const Tree same = io::read_tree_string(tree2(spline({kDisc, kDisc, kDisc, kDisc})), "same");
-  const Tree a = pruned(same);
+  const Tree a = pruned_2d(same);
   EXPECT_EQ(a.node(a.root).kind, NodeKind::kPrimitive);
   EXPECT_EQ(count(a).primitives, 1);
 
   const Tree empty = io::read_tree_string(tree2(spline({kFar, kFar, kFar, kFar})), "empty");
-  const Tree b = pruned(empty);
+  const Tree b = pruned_2d(empty);
   EXPECT_EQ(count(b).operators, 0);
-  EXPECT_LT(mse(occupancy(b, points()), std::vector<float>(points().size() / 2, 0.0f)), 1e-6);
+  EXPECT_LT(mse(occupancy(b, points_2d()), std::vector<float>(points_2d().size() / 2, 0.0f)), 1e-6);
 
   const Tree covered =
       io::read_tree_string(tree2(R"({"op": "union", "children": [)" + kAll + ", " +
                                  spline({kDisc, kFar, kDisc, kFar, kFar, kDisc}, "[3, 2]") + "]}"),
                            "covered");
-  const Tree c = pruned(covered);
+  const Tree c = pruned_2d(covered);
   EXPECT_EQ(count(c).primitives, 1);
 
   // A real blend stays a spline.
   const Tree example = io::read_tree_file(FUZZYCSG_SOURCE_DIR "/examples/spline_shape.json");
-  const Tree d = pruned(example);
+  const Tree d = pruned_2d(example);
   validate(d, "example");
   EXPECT_EQ(d.node(d.root).op, OpKind::kSpline);
-  EXPECT_LT(mse(occupancy(example, points()), occupancy(d, points())), 1e-3);
+  EXPECT_LT(mse(occupancy(example, points_2d()), occupancy(d, points_2d())), 1e-3);
 }
 
 }  // namespace

@@ -6,16 +6,14 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "io/tree_text.hpp"
 
 namespace fuzzycsg::io {
 namespace {
 
-std::string tree3(const std::string& root) {
-  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": )" + root + "}";
-}
-std::string tree2(const std::string& root) {
-  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": )" + root + "}";
-}
+using test::tree2;
+using test::tree3;
+
 std::string pair3(const std::string& a, const std::string& b) {
   return tree3(R"({"op": "union", "children": [)" + a + ", " + b + "]}");
 }

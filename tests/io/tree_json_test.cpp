@@ -16,9 +16,12 @@
 
 #include "fuzzycsg/core/error.hpp"
 #include "io/tree_compare.hpp"
+#include "io/tree_text.hpp"
 
 namespace fuzzycsg::io {
 namespace {
+
+using test::tree3;
 
 namespace fs = std::filesystem;
 
@@ -179,9 +182,6 @@ TEST(TreeJson, NamesEveryKindOfParameter) {
   EXPECT_EQ(param(te, "root.children[1].sharpness").value, 50.0);
 }
 
-std::string tree3(const std::string& root) {
-  return R"({"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": )" + root + "}";
-}
 const std::string kTwoSpheres =
     R"("children": [{"type": "sphere", "radius": 1}, {"type": "sphere", "radius": 2}])";
 

@@ -19,7 +19,7 @@ std::string tree_json(int dim, const std::string& root, const std::string& extra
          R"(, "root": )" + root + "}";
 }
 
-constexpr double kR = 0.5;
+constexpr double kRadius = 0.5;
 const double kC[3] = {0.1, -0.2, 0.05};  // the sphere's centre
 
 const std::string kSphere =
@@ -42,13 +42,13 @@ TEST(TreeTarget, Sphere) {
   for (std::size_t i = 0; i < n; ++i) {
     const double d =
         std::hypot(points[3 * i] - kC[0], points[3 * i + 1] - kC[1], points[3 * i + 2] - kC[2]) -
-        kR;
+        kRadius;
     if (std::abs(d) > 1e-5) {
       ASSERT_EQ(occ[i], d < 0 ? 1.0f : 0.0f) << d;
     }
     inside += occ[i];
   }
-  const double ball = 4.0 / 3.0 * std::numbers::pi * kR * kR * kR / 8;
+  const double ball = 4.0 / 3.0 * std::numbers::pi * kRadius * kRadius * kRadius / 8;
   EXPECT_NEAR(inside / n, ball, tolerance(ball, n));
 
   // Boundary points on the sphere, normals radial; uniform on the sphere: by Archimedes, each
@@ -63,14 +63,14 @@ TEST(TreeTarget, Sphere) {
     double u[3], r = 0;
     for (int k = 0; k < 3; ++k) u[k] = b[3 * s + k] - kC[k], r += u[k] * u[k];
     r = std::sqrt(r);
-    EXPECT_NEAR(r, kR, 2e-5);
+    EXPECT_NEAR(r, kRadius, 2e-5);
     double dot = 0, len = 0;
     for (int k = 0; k < 3; ++k)
       dot += nrm[3 * s + k] * u[k] / r, len += nrm[3 * s + k] * nrm[3 * s + k];
     EXPECT_NEAR(len, 1.0, 1e-5);
     EXPECT_GT(dot, 0.9999);
     for (int k = 0; k < 3; ++k) {
-      ++quarter[k][std::clamp(static_cast<int>((u[k] / kR + 1) * 2), 0, 3)];
+      ++quarter[k][std::clamp(static_cast<int>((u[k] / kRadius + 1) * 2), 0, 3)];
     }
   }
   for (int k = 0; k < 3; ++k) {

@@ -132,6 +132,9 @@ void validate(const Tree& tree, std::string_view source);
 
 // Node path of every node ("root", "root.children[1]", ...), indexed like Tree::nodes.
 std::vector<std::string> node_paths(const Tree& tree);
+// The path of element i of the array at `path` ("root.children[2]", "...radii[0]"), as node
+// paths and messages spell it.
+std::string indexed_path(const std::string& path, std::size_t i);
 
 struct TreeCounts {
   int primitives = 0;
