@@ -74,6 +74,7 @@ int run_convert_job(const ConvertJob& a) {
   eo.threads = a.options.threads;
   eo.source = std::filesystem::path(a.target).filename().string();
   eo.writer = "fuzzycsg convert";
+  eo.leaf_comments = false;  // each line's primitive says what it is; tree.json has the paths
   eo.note = fmt::format("IoU {:.4f} against the mesh{}; settings and measures in report.json.",
                         r.metrics.iou,
                         r.chamfer ? fmt::format(", Chamfer distance {:.3g}", *r.chamfer) : "");

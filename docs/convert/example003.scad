@@ -4,28 +4,13 @@
 $fn = 64;
 
 difference() {
-  difference() {
-    difference() {
-      union() {
-        union() {
-          union() {
-            // root.children[0].children[0].children[0].children[0].children[0].children[0]: box
-            cube([30, 30, 30], center = true);
-            // root.children[0].children[0].children[0].children[0].children[0].children[1]: box
-            cube([40, 15, 15], center = true);
-          }
-          // root.children[0].children[0].children[0].children[0].children[1]: box
-          cube([15, 40, 15], center = true);
-        }
-        // root.children[0].children[0].children[0].children[1]: box
-        cube([15, 15, 40], center = true);
-      }
-      // root.children[0].children[0].children[1]: box
-      translate([0, 0, -1]) cube([10, 10, 46], center = true);
-    }
-    // root.children[0].children[1]: box
-    translate([0, -1, 0]) cube([10, 46, 10], center = true);
+  union() {
+    cube([30, 30, 30], center = true);
+    cube([40, 15, 15], center = true);
+    cube([15, 40, 15], center = true);
+    cube([15, 15, 40], center = true);
   }
-  // root.children[1]: box
+  translate([0, 0, -1]) cube([10, 10, 46], center = true);
+  translate([0, -1, 0]) cube([10, 46, 10], center = true);
   translate([-1, 0, 0]) cube([46, 10, 10], center = true);
 }

@@ -753,10 +753,44 @@ struct Writer {
       lr.written = lr.type;
       Lines body = exact(n, frame_of(tree, params, n));
       body.prefix_statement(placement_prefix(tree, params, n));
-      out.add(0, "// " + label + ": " + lr.type);
+      if (o.leaf_comments) {
+        out.add(0, "// " + label + ": " + lr.type);
+      } else if (!n.name.empty()) {
+        out.add(0, "// \"" + comment_text(n.name) + "\"");
+      }
       out.append(body, 0);
     }
     report.leaf_reports.push_back(std::move(lr));
+    return out;
+  }
+
+  // A plain union, intersection or difference (not unified, complement or spline).
+  bool plain(int index, OpKind op) const {
+    const Node& n = tree.node(index);
+    return n.kind == NodeKind::kOperator && n.op == op;
+  }
+
+  // The children of a plain boolean as one OpenSCAD statement takes them, nested booleans that
+  // mean the same folded in: a union's (an intersection's) children that are unions
+  // (intersections) give their own children in their place; a difference's first child that is
+  // a difference gives its children, and its later children that are unions give theirs
+  // (difference() takes every later child away from the first). Folded operators are counted.
+  std::vector<int> operands(int index) {
+    const Node& n = tree.node(index);
+    std::vector<int> out;
+    for (std::size_t k = 0; k < n.children.size(); ++k) {
+      const int c = n.children[k];
+      const OpKind fold = n.op != OpKind::kDifference ? n.op
+                          : k == 0                    ? OpKind::kDifference
+                                                      : OpKind::kUnion;
+      if (!plain(c, fold)) {
+        out.push_back(c);
+        continue;
+      }
+      ++report.operators;
+      const std::vector<int> inner = operands(c);
+      out.insert(out.end(), inner.begin(), inner.end());
+    }
     return out;
   }
 
@@ -812,7 +846,7 @@ struct Writer {
       }
     }
     l.add(0, op + "() {");
-    for (const int k : kids) l.append(node(k), 1);
+    for (const int k : operands(index)) l.append(node(k), 1);
     l.add(0, "}");
     return l;
   }

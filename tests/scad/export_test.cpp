@@ -185,6 +185,57 @@ Polyhedron parse_polyhedron(const std::string& s) {
   return p;
 }
 
+// Nested booleans that one OpenSCAD statement says at once are one statement: unions in a union,
+// intersections in an intersection, a difference first in a difference and unions after it.
+// Others stay nested: a difference second in a difference, a union in an intersection, a
+// unified operator. The header still counts the tree's operators.
+TEST(ScadExport, NestedBooleansAreFoldedWhereOneStatementSaysTheSame) {
+  const std::string leaf = R"({"type": "sphere", "radius": 0.1})";
+  const auto op = [](const std::string& name, const std::string& a, const std::string& b) {
+    return R"({"op": ")" + name + R"(", "children": [)" + a + ", " + b + "]}";
+  };
+  // ((a | b) | c) \ d \ (e | f): one difference() of one union() and three spheres.
+  scad::ExportOptions bare;
+  bare.leaf_comments = false;
+  const std::string folded = export_text(
+      op("difference", op("difference", op("union", op("union", leaf, leaf), leaf), leaf),
+         op("union", leaf, leaf)),
+      3, bare);
+  EXPECT_NE(folded.find("(3D, 6 leaves, 5 operators)"), std::string::npos) << folded;
+  EXPECT_EQ(count(folded, "union() {"), 1u) << folded;
+  EXPECT_EQ(count(folded, "difference() {"), 1u) << folded;
+  EXPECT_NE(folded.find("difference() {\n  union() {\n    sphere(r = 0.1);\n    sphere(r = 0.1);\n"
+                        "    sphere(r = 0.1);\n  }\n  sphere(r = 0.1);\n  sphere(r = 0.1);\n"
+                        "  sphere(r = 0.1);\n}"),
+            std::string::npos)
+      << folded;
+  const std::string meet =
+      export_text(op("intersection", op("intersection", leaf, leaf), op("union", leaf, leaf)));
+  EXPECT_EQ(count(meet, "intersection() {"), 1u) << meet;
+  EXPECT_EQ(count(meet, "union() {"), 1u) << meet;
+  // a \ (b \ c) keeps its inner difference; a unified operator is not folded into a union.
+  const std::string kept = export_text(op("difference", leaf, op("difference", leaf, leaf)));
+  EXPECT_EQ(count(kept, "difference() {"), 2u) << kept;
+  const std::string unified = export_text(
+      R"({"op": "union", "children": [{"op": "unified", "c": [0, 1, 0, 0], "children": [)" + leaf +
+      ", " + leaf + "]}, " + leaf + "]}");
+  EXPECT_EQ(count(unified, "union() {"), 2u) << unified;
+}
+
+// Leaf comments name the node path; without them only named leaves have one.
+TEST(ScadExport, LeafCommentsCanBeLeftOut) {
+  const std::string root = R"({"op": "union", "children": [{"type": "sphere", "radius": 0.1},
+      {"type": "box", "size": [1, 1, 1], "name": "plate"}]})";
+  const std::string with = export_text(root);
+  EXPECT_NE(with.find("// root.children[0]: sphere\n"), std::string::npos) << with;
+  EXPECT_NE(with.find("// root.children[1] \"plate\": box\n"), std::string::npos) << with;
+  scad::ExportOptions o;
+  o.leaf_comments = false;
+  const std::string without = export_text(root, 3, o);
+  EXPECT_EQ(without.find("root.children"), std::string::npos) << without;
+  EXPECT_NE(without.find("  // \"plate\"\n  cube("), std::string::npos) << without;
+}
+
 TEST(ScadExport, UnclassifiedLeavesAreClosedPolyhedraClockwiseFromOutside) {
   scad::ExportOptions o;
   o.resolution = 24;

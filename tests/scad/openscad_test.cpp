@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <random>
@@ -103,6 +104,30 @@ TEST(OpenScad, PrimitivesWithPlacement) {
   const Rendered r = render("primitives", tree, options(), &report);
   EXPECT_FALSE(report.clipped);
   EXPECT_EQ(report.meshed_leaves, 0);
+  expect_matches(tree, r, 0.02, 0.97);
+}
+
+// Folded booleans (one union() of three boxes, one difference() taking a box and the union of
+// two cylinders away) are the tree's solid.
+TEST(OpenScad, FoldedBooleans) {
+  FUZZYCSG_REQUIRE_OPENSCAD();
+  const Tree tree = io::read_tree_string(tree_text(3, R"({"op": "difference", "children": [
+    {"op": "difference", "children": [
+      {"op": "union", "children": [
+        {"op": "union", "children": [
+          {"type": "box", "size": [1.6, 0.8, 0.8]},
+          {"type": "box", "size": [0.8, 1.6, 0.8]}]},
+        {"type": "box", "size": [0.8, 0.8, 1.6]}]},
+      {"type": "box", "size": [0.3, 0.3, 2.0]}]},
+    {"op": "union", "children": [
+      {"type": "cylinder", "radius": 0.15, "height": 2.0, "rotate": [0, 90, 0]},
+      {"type": "cylinder", "radius": 0.15, "height": 2.0, "rotate": [90, 0, 0]}]}]})"));
+  scad::ExportReport report;
+  const Rendered r = render("folded", tree, options(), &report);
+  EXPECT_EQ(report.operators, 5);
+  std::ifstream in(r.scad);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.find("difference() {\n  union() {"), text.find("difference() {")) << text;
   expect_matches(tree, r, 0.02, 0.97);
 }
 

@@ -8,7 +8,10 @@
 // The export is the tree's *crisp* counterpart: every leaf is its set f < 0 (whatever its step
 // and sharpness) and every operator the crisp boolean of the same kind (any logic family; a
 // unified operator snapped to the largest of its weights c, B \ A written as a difference with
-// the children swapped; a complement as the difference of all space and its child).
+// the children swapped; a complement as the difference of all space and its child). Nested
+// booleans that one OpenSCAD statement says at once are written as one: union(union(a, b), c)
+// as union() { a; b; c; }, likewise intersections, and difference(difference(a, b), c) and
+// difference(a, union(b, c)) as difference() { a; b; c; }.
 //
 // Leaves are written as OpenSCAD primitives wherever OpenSCAD has one: sphere, box (cube),
 // cylinder, cone (cylinder with r1, r2), torus (rotate_extrude of a circle), plane (a box that
@@ -132,6 +135,9 @@ struct ExportOptions {
   // The header's second sentence (one line); empty: what a crisp counterpart is.
   std::string note;
   int threads = 0;  // meshing threads (0: all)
+  // A comment above each exact leaf naming its node path (and name). Off: only named leaves
+  // have one. Quadric, MLP and meshed leaves always say what they were written as.
+  bool leaf_comments = true;
 };
 
 struct LeafReport {
