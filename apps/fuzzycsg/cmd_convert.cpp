@@ -1,11 +1,11 @@
-// fuzzycsg convert MESH -o OUTDIR [--max-primitives K] [--time-limit S] [--seed N] [--threads N]
-//                  [--resolution R] [--restarts N] [--refine-steps N] [--padding P]
-//                  [--metric-points N] [-q]
+// fuzzycsg convert MESH|MODEL.csg -o OUTDIR [--max-primitives K] [--time-limit S] [--seed N]
+//                  [--threads N] [--resolution R] [--restarts N] [--refine-steps N]
+//                  [--padding P] [--metric-points N] [-q]
 //
-// A part's mesh as an editable CSG program of CAD primitives (fuzzycsg/convert/convert.hpp).
-// Writes OUTDIR/tree.json (crisp, in the mesh's coordinates), model.scad (OpenSCAD primitives
-// only), report.json, render.png (target and result side by side) and, with the diagram
-// module, diagram.svg.
+// A part's mesh, or an OpenSCAD model (.csg), as an editable CSG program of CAD primitives
+// (fuzzycsg/convert/convert.hpp). Writes OUTDIR/tree.json (crisp, in the input's coordinates),
+// model.scad (OpenSCAD primitives only), report.json, render.png (target and result side by
+// side) and, with the diagram module, diagram.svg.
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -22,7 +22,6 @@
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/render/render.hpp"
 #include "fuzzycsg/scad/scad.hpp"
-#include "fuzzycsg/target/mesh_file.hpp"
 #if FUZZYCSG_HAVE_DIAGRAM
 #include "fuzzycsg/diagram/diagram.hpp"
 #endif
@@ -75,8 +74,9 @@ int run_convert_job(const ConvertJob& a) {
   eo.source = std::filesystem::path(a.target).filename().string();
   eo.writer = "fuzzycsg convert";
   eo.leaf_comments = false;  // each line's primitive says what it is; tree.json has the paths
-  eo.note = fmt::format("IoU {:.4f} against the mesh{}; settings and measures in report.json.",
-                        r.metrics.iou,
+  const bool model = has_extension(a.target, {".csg"});
+  eo.note = fmt::format("IoU {:.4f} against the {}{}; settings and measures in report.json.",
+                        r.metrics.iou, model ? "model" : "mesh",
                         r.chamfer ? fmt::format(", Chamfer distance {:.3g}", *r.chamfer) : "");
   scad::write_scad(r.tree, r.tree.params.values(), dir / "model.scad", eo);
   io::write_text_file_atomic(dir / "report.json", convert::report_json(r, a.options));
@@ -85,7 +85,8 @@ int run_convert_job(const ConvertJob& a) {
   co.result_label = fmt::format("convert: {} primitives", r.primitives);
   io::write_text_file_atomic(
       dir / "render.png",
-      render_comparison_png(read_mesh_file(a.target), r.tree, r.tree.params.values(), co));
+      render_comparison_png(r.target_mesh, convert::solid_mesh(r.tree, co.resolution, co.threads),
+                            co));
 #if FUZZYCSG_HAVE_DIAGRAM
   write_diagram(r.tree, dir / "diagram.svg");
 #endif
@@ -111,7 +112,9 @@ Verb register_convert(CLI::App& app) {
   auto a = std::make_shared<ConvertJob>();
   CLI::App* cmd = app.add_subcommand(
       "convert", "A part's mesh as an editable CSG program of CAD primitives (tree, OpenSCAD)");
-  cmd->add_option("target", a->target, "Closed triangle mesh (OBJ, STL, PLY, OFF)")->required();
+  cmd->add_option("target", a->target,
+                  "Closed triangle mesh (OBJ, STL, PLY, OFF) or OpenSCAD model (.csg)")
+      ->required();
   cmd->add_option("-o,--output", a->out_dir, "Output directory")->required();
   auto& o = a->options;
   cmd->add_option("--max-primitives", o.max_primitives,

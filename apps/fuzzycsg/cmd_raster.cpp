@@ -50,8 +50,6 @@ struct RasterArgs {
   int sphere_subdivisions = 2, cylinder_segments = 16, threads = 0;
 };
 
-bool is_csg(const std::string& path) { return std::filesystem::path(path).extension() == ".csg"; }
-
 // Per-pixel values as a diverging picture: blue negative, white 0, red positive, saturating at
 // `scale`.
 std::string gradient_png(const std::vector<double>& values, int w, int h, double scale) {
@@ -113,9 +111,10 @@ int run_raster(const RasterArgs& a) {
   // A gradient needs the model as a tree (its parameters); a plain picture of a .csg model
   // takes OpenSCAD's transforms as they are.
   std::optional<diffcsg::OpenscadModel> model;
-  if (gradient || !is_csg(a.model)) {
-    model = is_csg(a.model) ? diffcsg::read_openscad_csg_tree(a.model)
-                            : diffcsg::OpenscadModel{io::read_tree_file(a.model), t};
+  if (gradient || !has_extension(a.model, {".csg"})) {
+    model = has_extension(a.model, {".csg"})
+                ? diffcsg::read_openscad_csg_tree(a.model)
+                : diffcsg::OpenscadModel{io::read_tree_file(a.model), t};
   }
   const diffcsg::Scene scene =
       model ? diffcsg::scene_from_tree(model->tree, a.model, model->tessellation)
@@ -160,8 +159,9 @@ int run_raster(const RasterArgs& a) {
         target = set.images[0];
       } else {
         const diffcsg::OpenscadModel tm =
-            is_csg(a.target) ? diffcsg::read_openscad_csg_tree(a.target)
-                             : diffcsg::OpenscadModel{io::read_tree_file(a.target), t};
+            has_extension(a.target, {".csg"})
+                ? diffcsg::read_openscad_csg_tree(a.target)
+                : diffcsg::OpenscadModel{io::read_tree_file(a.target), t};
         target = diffcsg::render_image(
             diffcsg::prepare_scene(diffcsg::scene_from_tree(tm.tree, a.target, tm.tessellation),
                                    !a.no_intersection_aa),

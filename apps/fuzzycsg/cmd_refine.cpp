@@ -45,12 +45,6 @@ struct RefineArgs {
   bool no_intersection_aa = false, quiet = false, size_given = false, shared_only = false;
 };
 
-bool has_extension(const std::string& path, std::initializer_list<const char*> exts) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-  return std::any_of(exts.begin(), exts.end(), [&](const char* x) { return e == x; });
-}
-
 // A model: a tree file, or an OpenSCAD .csg read as one (with OpenSCAD's tessellation).
 diffcsg::OpenscadModel read_model(const std::string& path, const diffcsg::TessellationOptions& t) {
   if (has_extension(path, {".csg"})) return diffcsg::read_openscad_csg_tree(path);

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <functional>
 #include <map>
 
@@ -52,6 +54,12 @@ CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& 
   return cmd->add_option("--threads", threads, help.empty() ? "Threads (0: all cores)" : help)
       ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
+}
+
+bool has_extension(const std::string& path, std::initializer_list<const char*> exts) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
+  return std::any_of(exts.begin(), exts.end(), [&](const char* x) { return e == x; });
 }
 
 }  // namespace fuzzycsg::app

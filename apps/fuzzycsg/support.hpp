@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 
 namespace fuzzycsg::app {
@@ -19,6 +20,9 @@ void prepare_output_dir(const std::filesystem::path& dir);
 // part with dashes ("type_search_every" -> "--type-search-every"), except where the program
 // names it otherwise ("metrics.points" -> "--metric-points", "families" -> "--family").
 std::string flag_for(const std::string& field);
+
+// Whether the path's extension, lower-cased, is one of `exts` (each with its dot: ".csg").
+bool has_extension(const std::string& path, std::initializer_list<const char*> exts);
 
 // The most threads a verb accepts: oneTBB's own limit on the threads of one arena.
 inline constexpr int kMaxThreads = 256;

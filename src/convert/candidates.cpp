@@ -247,6 +247,7 @@ Candidates propose_candidates(const std::vector<Surface>& surfaces, const Triang
       }
     }
   }
+  prism_solids(surfaces, mesh, frame, bounds, margin, cos_tol, c.solids);
   return c;
 }
 

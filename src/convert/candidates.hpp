@@ -30,6 +30,17 @@ struct CandidateOptions {
   double through = 0.05;       // cuts through the part reach this fraction of its size beyond it
 };
 
+// Prisms whose walls are detected planes parallel to one of the frame's axes: the pieces of
+// planes joined by the mesh's edges where the solid turns in (a hole's corners) bound a hole,
+// the region beyond each of them, when at least one is off the frame's other two axes (boxes
+// cover the rest); those joined where it turns out bound a boss, the region behind each, when
+// at least two are (a box cut by one half-space the chain builds as well). Each polygon is clipped
+// to the part's bounds grown by `margin` and extruded over its walls' extent and through the
+// part (prisms.cpp).
+void prism_solids(const std::vector<Surface>& surfaces, const TriangleMesh& mesh,
+                  const Eigen::Matrix3d& frame, const Eigen::AlignedBox3d& bounds, double margin,
+                  double cos_tol, std::vector<Solid>& out);
+
 Candidates propose_candidates(const std::vector<Surface>& surfaces, const TriangleMesh& mesh,
                               const Eigen::Matrix3d& frame, const CandidateOptions& options = {});
 

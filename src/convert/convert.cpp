@@ -1,5 +1,6 @@
 #include "fuzzycsg/convert/convert.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <chrono>
@@ -10,6 +11,7 @@
 #include <utility>
 
 #include "convert/candidates.hpp"
+#include "convert/csg_input.hpp"
 #include "convert/program.hpp"
 #include "convert/refine.hpp"
 #include "convert/search.hpp"
@@ -65,6 +67,43 @@ class Stages {
   Clock::time_point start_;
 };
 
+struct LoadedInput {
+  std::unique_ptr<Target> target;
+  TriangleMesh mesh;  // the target's surface in its own coordinates
+};
+
+// A mesh file (checked closed and manifold) as itself; an OpenSCAD `.csg` model as its tree,
+// the true solid, and a mesh of that tree to detect surfaces on.
+LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  TargetOptions target_options;
+  target_options.padding = options.padding;
+  target_options.threads = options.threads;
+  LoadedInput in;
+  if (ext == ".csg") {
+    CsgInput csg = read_csg_input(path, options.padding, 256, options.threads);
+    in.target = tree_target(std::move(csg.solid), std::filesystem::path(path).filename().string(),
+                            target_options);
+    in.mesh = std::move(csg.mesh);
+    return in;
+  }
+  if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
+    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF) or an OpenSCAD .csg");
+  }
+  // A surface that bounds no solid would give an inside test that depends on the ray's
+  // direction; refuse it with its defect named rather than convert noise.
+  in.mesh = read_mesh_file(path);
+  if (const std::optional<std::string> defect = mesh_defect(in.mesh)) {
+    throw InputError(path + ": " + *defect);
+  }
+  in.target = load_target(path, target_options);
+  if (in.target->kind() != "mesh" || in.target->dim() != 3) {
+    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF) or an OpenSCAD .csg");
+  }
+  return in;
+}
+
 }  // namespace
 
 void validate(const ConvertOptions& o) {
@@ -88,27 +127,12 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   Stages stages(result, hooks);
 
   stages.begin("load");
-  // A surface that bounds no solid would give an inside test that depends on the ray's
-  // direction; refuse it with its defect named rather than convert noise.
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
-    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF)");
-  }
-  TriangleMesh file_mesh = read_mesh_file(path);
-  if (const std::optional<std::string> defect = mesh_defect(file_mesh)) {
-    throw InputError(path + ": " + *defect);
-  }
-  TargetOptions target_options;
-  target_options.padding = options.padding;
-  target_options.threads = options.threads;
-  const std::unique_ptr<Target> target = load_target(path, target_options);
-  if (target->kind() != "mesh" || target->dim() != 3) {
-    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF)");
-  }
+  LoadedInput input = load_input(path, options);
+  const std::unique_ptr<Target>& target = input.target;
   result.target = target->describe();
   result.normalisation = target->normalisation();
-  const TriangleMesh mesh = mapped(std::move(file_mesh), result.normalisation);
+  result.target_mesh = std::move(input.mesh);
+  const TriangleMesh mesh = mapped(result.target_mesh, result.normalisation);
   stages.end();
 
   stages.begin("detect");
@@ -154,6 +178,9 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   search.deadline = at(0.6);
   std::vector<Chain> chains;
   for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
+  if (std::all_of(chains.begin(), chains.end(), [](const Chain& c) { return c.steps.empty(); })) {
+    throw InputError(path + ": no solid proposed from the detected surfaces covers the part");
+  }
   result.time_limit_reached = Clock::now() > *search.deadline;  // before extending the cutters
   extend_cutters(chains, grid, 0.1, options.threads);
   const Tree searched = chains_tree(chains);
@@ -220,7 +247,18 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   stages.end();
 
   stages.begin("measure");
-  result.metrics = measure(best, best.params.values(), *target, options.metrics);
+  // IoU and MSE are the crisp tree's; the level set for the Chamfer and Hausdorff distances is
+  // meshed from its smooth form (a sigmoid about a grid cell wide), so that they measure the
+  // solids, not the grid's steps on their slanted and curved faces.
+  MetricsOptions crisp_metrics = options.metrics;
+  crisp_metrics.chamfer = false;
+  result.metrics = measure(best, best.params.values(), *target, crisp_metrics);
+  if (options.metrics.chamfer) {
+    const Tree smooth = smooth_tree(best, options.metrics.chamfer_resolution);
+    const Metrics distances = measure(smooth, smooth.params.values(), *target, options.metrics);
+    result.metrics.chamfer = distances.chamfer;
+    result.metrics.hausdorff = distances.hausdorff;
+  }
   if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer / result.normalisation.scale;
   if (result.metrics.hausdorff) {
     result.hausdorff = *result.metrics.hausdorff / result.normalisation.scale;

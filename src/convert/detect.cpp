@@ -61,11 +61,38 @@ using Traits =
     CGAL::Shape_detection::Efficient_RANSAC_traits<Kernel, PointVector, PointMap, SignedNormalMap>;
 using Ransac = CGAL::Shape_detection::Efficient_RANSAC<Traits>;
 
+// A CGAL shape whose largest connected component is found on a bitmap of its parameter space
+// only when that bitmap is of a sane size. CGAL 5.5 allocates one cell per cluster_epsilon^2 of
+// it, and a candidate of huge radius (a cylinder or cone that RANSAC fits to a flat face) spans
+// so much that the allocation fails (std::bad_alloc on a plain box with a square hole); such a
+// shape's component is found with CGAL's k-d tree instead, which needs no bitmap.
+template <class Base>
+class BoundedComponents : public Base {
+ protected:
+  using FT = typename Traits::FT;
+  static constexpr double kMaxBitmapCells = 1 << 24;
+
+  std::size_t connected_component(std::vector<std::size_t>& indices, FT cluster_epsilon) override {
+    if (indices.empty() || !this->supports_connected_component()) {
+      return Base::connected_component(indices, cluster_epsilon);
+    }
+    FT min[] = {0, 0}, max[] = {0, 0};
+    FT epsilon = cluster_epsilon;  // parameters() may change it, as in the base class
+    std::vector<std::pair<FT, FT>> space(indices.size());
+    this->parameters(this->m_indices, space, epsilon, min, max);
+    const double cells =
+        std::ceil((max[0] - min[0]) / epsilon) * std::ceil((max[1] - min[1]) / epsilon);
+    if (!(cells <= kMaxBitmapCells))
+      return this->connected_component_kdTree(indices, cluster_epsilon);
+    return Base::connected_component(indices, cluster_epsilon);
+  }
+};
+
 // CGAL's sphere, also for spherical cavities. CGAL 5.5's Sphere accepts a candidate only when the
 // normals of its three points point away from its centre, so a hole's sphere (example004's) is
 // never proposed; this one, that failing, tries the same points with their normals turned over.
 // The rest (distances, normal agreement, connected components) ignores the normals' sign.
-class AnySphere : public CGAL::Shape_detection::Sphere<Traits> {
+class AnySphere : public BoundedComponents<CGAL::Shape_detection::Sphere<Traits>> {
  protected:
   void create_shape(const std::vector<std::size_t>& indices) override {
     CGAL::Shape_detection::Sphere<Traits>::create_shape(indices);
@@ -330,11 +357,11 @@ std::vector<Candidate> ransac_candidates(const PreparedMesh& m, const std::vecto
   Ransac ransac;
   ransac.set_input(points);
   namespace sd = CGAL::Shape_detection;
-  if (run.planes) ransac.add_shape_factory<sd::Plane<Traits>>();
-  if (run.cylinders) ransac.add_shape_factory<sd::Cylinder<Traits>>();
+  if (run.planes) ransac.add_shape_factory<BoundedComponents<sd::Plane<Traits>>>();
+  if (run.cylinders) ransac.add_shape_factory<BoundedComponents<sd::Cylinder<Traits>>>();
   if (run.spheres) ransac.add_shape_factory<AnySphere>();
-  if (run.cones) ransac.add_shape_factory<sd::Cone<Traits>>();
-  if (run.tori) ransac.add_shape_factory<sd::Torus<Traits>>();
+  if (run.cones) ransac.add_shape_factory<BoundedComponents<sd::Cone<Traits>>>();
+  if (run.tori) ransac.add_shape_factory<BoundedComponents<sd::Torus<Traits>>>();
   Ransac::Parameters parameters;
   parameters.probability = run.probability;
   parameters.min_points = run.min_points;

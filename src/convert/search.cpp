@@ -216,7 +216,8 @@ class Greedy {
 
   // The first moves worth starting from: the union of each listed solid and of the best frame
   // box, whatever their gain (a part that is mostly holes gains little from its outer shape
-  // alone), at most `count`, best first.
+  // alone), at most `count`, best first; and the frame box around the whole part, which a part
+  // that is mostly carved away (a cube less a large ball) loses cells by and starts from.
   std::vector<ScoredMove> first_moves(int count) const {
     const std::vector<std::uint8_t> empty(g_.size(), 0);
     const Weights w(g_, empty, nullptr);
@@ -229,7 +230,48 @@ class Greedy {
                      [](const ScoredMove& a, const ScoredMove& b) { return a.gain > b.gain; });
     if (moves.size() > static_cast<std::size_t>(count))
       moves.resize(static_cast<std::size_t>(count));
+    if (const std::optional<ScoredMove> hull = hull_box(w.wu)) {
+      const bool listed_already = std::any_of(moves.begin(), moves.end(), [&](const ScoredMove& m) {
+        return m.solid < 0 && m.box[0].lo == hull->box[0].lo && m.box[0].hi == hull->box[0].hi &&
+               m.box[1].lo == hull->box[1].lo && m.box[1].hi == hull->box[1].hi &&
+               m.box[2].lo == hull->box[2].lo && m.box[2].hi == hull->box[2].hi;
+      });
+      if (!listed_already) moves.push_back(*hull);
+    }
     return moves;
+  }
+
+  // The smallest frame box of the listed offsets that holds every inside cell, as a union
+  // (`wu`: the cells' gains for a union).
+  std::optional<ScoredMove> hull_box(const std::vector<std::int8_t>& wu) const {
+    std::array<int, 3> lo{g_.n[0], g_.n[1], g_.n[2]}, hi{-1, -1, -1};
+    for (int k = 0; k < g_.n[2]; ++k) {
+      for (int j = 0; j < g_.n[1]; ++j) {
+        for (int i = 0; i < g_.n[0]; ++i) {
+          if (g_.label[g_.index(i, j, k)] != 1) continue;
+          const std::array<int, 3> at{i, j, k};
+          for (std::size_t a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], at[a]);
+            hi[a] = std::max(hi[a], at[a]);
+          }
+        }
+      }
+    }
+    ScoredMove m;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const AxisRange* best = nullptr;
+      for (const AxisRange& r : ranges_[a]) {
+        if (r.lo <= lo[a] && r.hi >= hi[a] && (!best || r.hi - r.lo < best->hi - best->lo)) {
+          best = &r;
+        }
+      }
+      if (!best) return std::nullopt;
+      m.box[a] = *best;
+    }
+    m.gain = 0;
+    for (const std::uint32_t c : box_cells(g_, m.box)) m.gain += wu[c];
+    m.move = Move::kUnion;
+    return m;
   }
 
   // One greedy descent; `random` picks among the best moves (restarts), else the best. `first`:

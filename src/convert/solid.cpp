@@ -14,6 +14,20 @@ namespace {
 
 std::string number(double v) { return fmt::format("{:.4g}", v); }
 
+// Even-odd rule: the polygon's inside, for any simple polygon.
+bool in_polygon(const std::vector<Eigen::Vector2d>& polygon, double x, double y) {
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Eigen::Vector2d& a = polygon[i];
+    const Eigen::Vector2d& b = polygon[j];
+    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
 }  // namespace
 
 std::string_view solid_kind_name(SolidKind kind) {
@@ -30,6 +44,8 @@ std::string_view solid_kind_name(SolidKind kind) {
       return "torus";
     case SolidKind::kHalfSpace:
       return "half-space";
+    case SolidKind::kPrism:
+      return "prism";
   }
   return "?";
 }
@@ -54,6 +70,8 @@ bool Solid::contains(const Eigen::Vector3d& p) const {
       const double rho = std::hypot(q[0], q[1]) - size[0];
       return rho * rho + q[2] * q[2] <= size[1] * size[1];
     }
+    case SolidKind::kPrism:
+      return std::abs(q[2]) <= 0.5 * size[2] && in_polygon(polygon, q[0], q[1]);
     case SolidKind::kHalfSpace:
       break;
   }
@@ -80,6 +98,14 @@ Eigen::AlignedBox3d Solid::local_bounds() const {
     case SolidKind::kTorus:
       h = {size[0] + size[1], size[0] + size[1], size[1]};
       break;
+    case SolidKind::kPrism: {
+      Eigen::AlignedBox3d box;
+      for (const Eigen::Vector2d& v : polygon) {
+        box.extend(Eigen::Vector3d(v.x(), v.y(), -0.5 * size[2]));
+        box.extend(Eigen::Vector3d(v.x(), v.y(), 0.5 * size[2]));
+      }
+      return box;
+    }
     case SolidKind::kHalfSpace:
       return {};
   }
@@ -96,6 +122,7 @@ Solid Solid::mapped(const Similarity& m) const {
   }
   s.centre = m.scale * centre + t;
   s.size = m.scale * size;
+  for (Eigen::Vector2d& v : s.polygon) v *= m.scale;
   return s;
 }
 
@@ -124,6 +151,8 @@ std::string Solid::describe() const {
     case SolidKind::kHalfSpace:
       return fmt::format("half-space n ({}, {}, {}) . p <= {}", number(z[0]), number(z[1]),
                          number(z[2]), number(size[0]));
+    case SolidKind::kPrism:
+      return fmt::format("prism of {} sides h {}", polygon.size(), number(size[2])) + at() + axis();
   }
   return "?";
 }
@@ -196,6 +225,23 @@ int add_leaf(TreeBuilder& builder, const Solid& s, double sharpness) {
       leaf = builder.leaf(PrimitiveType::kPlane, numbers({n[0], n[1], n[2], s.size[0]}));
       break;
     }
+    case SolidKind::kPrism: {
+      // Straight sides: each segment's Bézier controls at its thirds.
+      std::vector<Number> profile;
+      const std::size_t n = s.polygon.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d& a = s.polygon[i];
+        const Eigen::Vector2d& b = s.polygon[(i + 1) % n];
+        for (const double t : {0.0, 1.0 / 3.0, 2.0 / 3.0}) {
+          const Eigen::Vector2d p = a + t * (b - a);
+          profile.push_back(p.x());
+          profile.push_back(p.y());
+        }
+      }
+      profile.push_back(s.size[2]);
+      leaf = builder.leaf(PrimitiveType::kExtrude, std::move(profile));
+      break;
+    }
   }
   if (s.kind != SolidKind::kHalfSpace) {
     if (!s.centre.isZero(0.0)) {
@@ -240,6 +286,15 @@ std::optional<Solid> solid_of_leaf(const Tree& tree, std::span<const double> par
       s.kind = SolidKind::kTorus;
       s.size = {value(0), value(1), 0};
       break;
+    case PrimitiveType::kExtrude: {
+      // The segments' end points: a straight-sided profile's polygon.
+      const std::size_t count = n.intrinsic.size();
+      if (count < 1 + 2 * 3 * 3) return std::nullopt;  // at least three segments
+      s.kind = SolidKind::kPrism;
+      for (std::size_t i = 0; i + 1 < count; i += 6) s.polygon.emplace_back(value(i), value(i + 1));
+      s.size = {0, 0, value(count - 1)};
+      break;
+    }
     case PrimitiveType::kPlane: {
       s.kind = SolidKind::kHalfSpace;
       const Eigen::Vector3d normal(value(0), value(1), value(2));

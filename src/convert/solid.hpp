@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree_builder.hpp"
@@ -14,13 +15,14 @@ namespace fuzzycsg::convert {
 
 inline constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 
-enum class SolidKind { kBox, kCylinder, kCone, kSphere, kTorus, kHalfSpace };
+enum class SolidKind { kBox, kCylinder, kCone, kSphere, kTorus, kHalfSpace, kPrism };
 
 std::string_view solid_kind_name(SolidKind kind);  // "box", "cylinder", ...
 
 // A primitive in world coordinates: p is inside when local = rotation^T (p - centre) is inside
 // the primitive in its own frame, which is that of the tree's family (box centred with full
-// extents `size`; cylinder and cone along z, centred; torus in the xy plane). A half-space is
+// extents `size`; cylinder and cone along z, centred; torus in the xy plane; prism: the polygon
+// `polygon` of the xy plane extruded over z in [-h/2, h/2]). A half-space is
 // {p : normal . p <= offset} with normal = rotation.col(2) and offset = size[0]; its centre is
 // not used.
 struct Solid {
@@ -28,8 +30,12 @@ struct Solid {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // columns: the local axes
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   // box: full extents; cylinder: (radius, -, height); cone: (radius at -h/2, radius at +h/2,
-  // height); sphere: (radius, -, -); torus: (major, minor, -); half-space: (offset, -, -).
+  // height); sphere: (radius, -, -); torus: (major, minor, -); half-space: (offset, -, -);
+  // prism: (-, -, height).
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  // Prism: the vertices of a simple polygon in the solid's xy plane, counter-clockwise. Written
+  // as an `extrude` leaf with straight sides (OpenSCAD: linear_extrude of a polygon).
+  std::vector<Eigen::Vector2d> polygon;
 
   Eigen::Vector3d normal() const { return rotation.col(2); }  // half-spaces
   bool contains(const Eigen::Vector3d& p) const;

@@ -48,6 +48,19 @@ std::optional<Solid> axis_snapped(const Solid& s, double max_deg) {
       out.rotation = rotation_with_z(sign * Eigen::Vector3d::Unit(a->first));
       break;
     }
+    case SolidKind::kPrism: {
+      // The polygon keeps its place: its vertices in the new frame, their height dropped.
+      const auto a = near_axis(s.rotation.col(2), max_deg);
+      if (!a) return std::nullopt;
+      const Eigen::Vector3d axis = a->second * Eigen::Vector3d::Unit(a->first);
+      if ((s.rotation.col(2) - axis).norm() < 1e-12) return std::nullopt;
+      out.rotation = rotation_with_z(axis);
+      const Eigen::Matrix3d turn = out.rotation.transpose() * s.rotation;
+      for (Eigen::Vector2d& v : out.polygon) {
+        v = (turn * Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
+      }
+      return out;
+    }
     case SolidKind::kSphere:
       return std::nullopt;
   }
@@ -77,6 +90,13 @@ std::vector<std::pair<double*, bool>> numbers_of(Solid& s) {
     case SolidKind::kTorus:
       out.emplace_back(&s.size[0], true);
       out.emplace_back(&s.size[1], true);
+      break;
+    case SolidKind::kPrism:
+      out.emplace_back(&s.size[2], true);
+      for (Eigen::Vector2d& v : s.polygon) {
+        out.emplace_back(&v.x(), false);
+        out.emplace_back(&v.y(), false);
+      }
       break;
     case SolidKind::kHalfSpace:
       out.emplace_back(&s.size[0], false);
@@ -140,9 +160,12 @@ int extend_cutters(std::vector<Chain>& chains, const LabelGrid& grid, double dis
   for (Chain& chain : chains) {
     for (ChainStep& step : chain.steps) {
       if (step.move != Move::kDifference) continue;
-      if (step.solid.kind != SolidKind::kCylinder && step.solid.kind != SolidKind::kBox) continue;
-      // Local axes that have ends: a cylinder's own; a box's three.
-      const int first = step.solid.kind == SolidKind::kCylinder ? 2 : 0;
+      const SolidKind kind = step.solid.kind;
+      if (kind != SolidKind::kCylinder && kind != SolidKind::kBox && kind != SolidKind::kPrism) {
+        continue;
+      }
+      // Local axes that have ends: a cylinder's and a prism's own; a box's three.
+      const int first = kind == SolidKind::kBox ? 0 : 2;
       for (int axis = first; axis < 3; ++axis) {
         for (const double side : {-1.0, 1.0}) {
           const Solid old = step.solid;

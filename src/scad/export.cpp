@@ -33,6 +33,29 @@ std::string num(double v) {
   return fmt::format("{:.9g}", v);
 }
 
+// A polygon (x0, y0, x1, y1, ...) without the vertices that lie on the straight line between
+// their neighbours (a straight side of an extrude's profile is sampled 15 times): the same
+// polygon, written once per corner.
+std::vector<double> without_straight_points(const std::vector<double>& xy) {
+  const std::size_t n = xy.size() / 2;
+  if (n < 4) return xy;
+  double extent = 0;
+  for (const double v : xy) extent = std::max(extent, std::abs(v));
+  const double tolerance = 1e-12 * std::max(extent * extent, 1e-300);
+  std::vector<double> out;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t p = (i + n - 1) % n, q = (i + 1) % n;
+    const double ax = xy[2 * i] - xy[2 * p], ay = xy[2 * i + 1] - xy[2 * p + 1];
+    const double bx = xy[2 * q] - xy[2 * i], by = xy[2 * q + 1] - xy[2 * i + 1];
+    const bool straight = std::abs(ax * by - ay * bx) <= tolerance && ax * bx + ay * by > 0;
+    if (!straight) {
+      out.push_back(xy[2 * i]);
+      out.push_back(xy[2 * i + 1]);
+    }
+  }
+  return out.size() >= 6 ? out : xy;
+}
+
 std::string vec(std::span<const double> v) {
   std::string s = "[";
   for (std::size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + num(v[i]);
@@ -679,7 +702,8 @@ struct Writer {
       case PrimitiveType::kExtrude: {
         // The prism over the profile's polygon, the one the implicit function uses.
         const std::span<const double> all(th);
-        const std::vector<double> polygon = bezier_profile(all.first(th.size() - 1));
+        const std::vector<double> polygon =
+            without_straight_points(bezier_profile(all.first(th.size() - 1)));
         std::string pts;
         for (std::size_t v = 0; v + 1 < polygon.size(); v += 2) {
           pts += fmt::format("{}[{}, {}]", v ? ", " : "", num(polygon[v]), num(polygon[v + 1]));

@@ -316,3 +316,13 @@ std::unique_ptr<Target> load_tree(const std::filesystem::path& path, const std::
 }
 
 }  // namespace fuzzycsg::target_detail
+
+namespace fuzzycsg {
+
+std::unique_ptr<Target> tree_target(Tree tree, const std::string& name,
+                                    const TargetOptions& options) {
+  return std::make_unique<target_detail::TreeTarget>(name, std::move(tree),
+                                                     target_detail::thread_count(options.threads));
+}
+
+}  // namespace fuzzycsg

@@ -30,7 +30,7 @@ def walk(n):
         assert n["op"] in ("union", "intersection", "difference"), n
         for c in n["children"]: walk(c)
     else:
-        assert n["type"] in ("box", "cylinder", "cone", "sphere", "torus", "plane"), n
+        assert n["type"] in ("box", "cylinder", "cone", "sphere", "torus", "plane", "extrude"), n
         assert "sharpness" not in n, n
 walk(t["root"])
 scad = open(d + "/model.scad").read()
@@ -64,6 +64,23 @@ r = json.load(open(sys.argv[1] + "/report.json"))
 assert r["reached"] is (r["metrics"]["iou"] >= 0.97), r
 PY
 then ok; else bad "convert: not deterministic, or reached misreported"; fi
+# An OpenSCAD model (.csg): a 30 mm cube less a ball of radius 20 comes back as those two
+# primitives, measured against the model itself. Not under the sanitizers.
+if [[ $sanitized == 1 ]]; then
+  :
+elif "$bin" convert "$src/tests/data/scad/Old/example004.openscad.csg" -o "$tmp/cvcsg" --threads 2 -q &&
+    python3 - "$tmp/cvcsg" <<'PY'
+import json, sys
+d = sys.argv[1]
+r = json.load(open(d + "/report.json"))
+assert r["metrics"]["iou"] >= 0.99 and r["primitives"] == 2, r["metrics"]
+assert r["target"].startswith("tree"), r["target"]
+scad = open(d + "/model.scad").read()
+assert "sphere(r = 20);" in scad and "cube([30, 30, 30], center = true);" in scad, scad
+assert "against the model" in scad, scad
+assert open(d + "/render.png", "rb").read(4) == b"\x89PNG"
+PY
+then ok; else bad "convert: an OpenSCAD model is not its own two primitives"; fi
 # Bad input: one line, exit 2, nothing written.
 cat >"$tmp/sphere.json" <<'JSON'
 {"format": "fuzzycsg-tree", "version": 1, "dim": 3,
@@ -78,6 +95,8 @@ printf 'OFF\n0 0 0\n' >"$tmp/nothing.off"
 expect_error "nothing.off" "$bin" convert "$tmp/nothing.off" -o "$tmp/cvbad"
 expect_error "sphere.json: convert takes a 3D mesh" "$bin" convert "$tmp/sphere.json" -o "$tmp/cvbad"
 expect_error "--resolution" "$bin" convert "$hole" -o "$tmp/cvbad" --resolution 3
+printf 'group() {\n  cube(size = [1, 1, 1]\n}\n' >"$tmp/broken.csg"
+expect_error "broken.csg: line 3: cube" "$bin" convert "$tmp/broken.csg" -o "$tmp/cvbad"
 [[ -e "$tmp/cvbad" ]] && bad "convert: a refused input left an output directory" || ok
 
 echo "$pass passed, $fail failed"

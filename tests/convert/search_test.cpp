@@ -78,6 +78,12 @@ TEST(ConvertSolid, LeavesAgreeWithContains) {
   half.rotation = rotation_with_z({1, -1, 0.5});
   half.size = {0.2, 0, 0};
   solids.push_back(half);
+  // A prism over an L-shaped (not convex) polygon, tilted.
+  Solid prism = cylinder_along({0.2, -1, 0.4}, 0, 1.2, {0.05, 0, -0.1});
+  prism.kind = SolidKind::kPrism;
+  prism.size = {0, 0, 1.2};
+  prism.polygon = {{-0.6, -0.5}, {0.5, -0.5}, {0.5, -0.1}, {-0.2, -0.1}, {-0.2, 0.6}, {-0.6, 0.6}};
+  solids.push_back(prism);
 
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<float> u(-1, 1);

@@ -139,6 +139,59 @@ inline TriangleMesh box_with_hole_mesh(double a, double r, double h) {
   return mesh;
 }
 
+// The box [-a, a]^2 x [0, h] with a hole along z whose section is `hole`, a polygon
+// counter-clockwise and star-shaped around the origin (every ray from the origin meets its
+// boundary once). Rings of the hole's vertices and the square's corners, at the same angles on
+// both, make the annuli quadrilaterals, as in box_with_hole_mesh.
+inline TriangleMesh box_with_polygon_hole_mesh(double a, const std::vector<Eigen::Vector2d>& hole,
+                                               double h) {
+  std::vector<double> angles;
+  for (const Eigen::Vector2d& v : hole) angles.push_back(std::atan2(v.y(), v.x()));
+  for (int k = 0; k < 4; ++k) angles.push_back(-0.75 * kPi + 0.5 * kPi * k);
+  std::sort(angles.begin(), angles.end());
+  angles.erase(std::unique(angles.begin(), angles.end(),
+                           [](double x, double y) { return std::abs(x - y) < 1e-12; }),
+               angles.end());
+  // Where the ray at angle t meets the hole's boundary.
+  const auto on_hole = [&](double t) {
+    const Eigen::Vector2d d(std::cos(t), std::sin(t));
+    double best = 0;
+    for (std::size_t i = 0; i < hole.size(); ++i) {
+      const Eigen::Vector2d p = hole[i], e = hole[(i + 1) % hole.size()] - hole[i];
+      const double det = d.x() * (-e.y()) - d.y() * (-e.x());
+      if (std::abs(det) < 1e-15) continue;
+      const double lambda = (p.x() * (-e.y()) - p.y() * (-e.x())) / det;
+      const double s = (d.x() * p.y() - d.y() * p.x()) / det;
+      if (lambda > 0 && s >= -1e-12 && s <= 1 + 1e-12) best = lambda;
+    }
+    return Eigen::Vector2d(best * d);
+  };
+  TriangleMesh mesh;
+  std::vector<int> inner_bottom, inner_top, outer_bottom, outer_top;
+  for (const double t : angles) {
+    const double c = std::cos(t), s = std::sin(t);
+    const double to_square = a / std::max(std::abs(c), std::abs(s));
+    const Eigen::Vector2d q = on_hole(t);
+    inner_bottom.push_back(add_vertex(mesh, Vector3d(q.x(), q.y(), 0)));
+    inner_top.push_back(add_vertex(mesh, Vector3d(q.x(), q.y(), h)));
+    outer_bottom.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, 0)));
+    outer_top.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, h)));
+  }
+  const std::size_t n = angles.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    mesh.triangles.push_back({inner_top[i], outer_top[i], outer_top[j]});
+    mesh.triangles.push_back({inner_top[i], outer_top[j], inner_top[j]});
+    mesh.triangles.push_back({inner_bottom[i], outer_bottom[j], outer_bottom[i]});
+    mesh.triangles.push_back({inner_bottom[i], inner_bottom[j], outer_bottom[j]});
+    mesh.triangles.push_back({outer_bottom[i], outer_bottom[j], outer_top[j]});
+    mesh.triangles.push_back({outer_bottom[i], outer_top[j], outer_top[i]});
+    mesh.triangles.push_back({inner_bottom[i], inner_top[j], inner_bottom[j]});
+    mesh.triangles.push_back({inner_bottom[i], inner_top[i], inner_top[j]});
+  }
+  return mesh;
+}
+
 inline TriangleMesh scaled(TriangleMesh mesh, double factor, const Vector3d& shift) {
   for (auto& v : mesh.vertices) {
     for (int k = 0; k < 3; ++k) v[k] = v[k] * factor + shift[k];

@@ -500,6 +500,35 @@ TEST(PrimitiveValues, ExtrudeOfStraightEdgesIsThePolygonPrism) {
   }
 }
 
+// Straight sides evaluated forward only take the polygon of the segments' ends; with the
+// gradient, the sampled polygon. Both are the prism over bezier_profile's polygon: with the
+// controls anywhere on the chord in order, and when a control lies on the chord's line beyond
+// its end (the side overshoots and comes back: not a straight side of the fast path).
+TEST(PrimitiveValues, ExtrudeForwardAndGradientAgreeOnStraightSides) {
+  std::mt19937 rng(67);
+  // A square, its controls at 0.1 and 0.7 of each side.
+  const Vec uneven = {0, 0, 0.1, 0, 0.7, 0, 1, 0, 1, 0.1, 1, 0.7,
+                      1, 1, 0.9, 1, 0.3, 1, 0, 1, 0, 0.9, 0, 0.3};
+  // The same square, the first side's controls at x = 1.3 (beyond P1): that side runs out to
+  // x = 1.14 along y = 0 and back, a spike of no area.
+  Vec overshoot = uneven;
+  overshoot[2] = overshoot[4] = 1.3;
+  for (const Vec& profile : {uneven, overshoot}) {
+    const double h = 0.6;
+    const Instance ex = make(PrimitiveType::kExtrude, extrude_theta(profile, h));
+    const Instance poly = make(PrimitiveType::kPolygon, bezier_profile(profile));
+    for (int k = 0; k < 300; ++k) {
+      const Vec p = random_point(rng, 3, 1.5);
+      const double v = value(ex, p);
+      EXPECT_NEAR(v, gradient(ex, p).f, 1e-14);
+      EXPECT_NEAR(v, prism(value(poly, {p[0], p[1]}), p[2], h), 1e-14);
+    }
+  }
+  // On the spike: distance 0 to the sampled outline, where the square's would be 0.05.
+  EXPECT_NEAR(value(make(PrimitiveType::kExtrude, extrude_theta(overshoot, 0.6)), {1.05, 0, 0}),
+              0.0, 1e-12);
+}
+
 // A curved profile: the prism over bezier_profile's polygon, which interpolates every P_k.
 TEST(PrimitiveValues, ExtrudeIsThePrismOverTheSampledProfile) {
   std::mt19937 rng(61);

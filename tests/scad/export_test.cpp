@@ -94,7 +94,8 @@ TEST(ScadExport, EveryFamilyOpenScadHas) {
 }
 
 // The extrude: linear_extrude of the profile's sampled polygon (15 points per segment, P_k
-// first), centred, under the leaf's placement.
+// first), centred, under the leaf's placement; the samples of a straight side between its ends
+// are left out (the same polygon).
 TEST(ScadExport, ExtrudeIsTheLinearExtrusionOfItsPolygon) {
   const std::string s = export_text(R"({"type": "extrude",
       "profile": [[0, -0.5], [0, -0.2], [0, 0.2], [0, 0.5], [0.6, 0.5], [0.6, -0.5]],
@@ -107,8 +108,10 @@ TEST(ScadExport, ExtrudeIsTheLinearExtrusionOfItsPolygon) {
   const std::size_t end = s.find(");", at);
   ASSERT_NE(end, std::string::npos);
   const std::string points = s.substr(at + head.size(), end - at - head.size());
-  EXPECT_EQ(count(points, "["), 31u) << points;  // the list's bracket and 30 points
-  EXPECT_EQ(points.rfind("[[0, -0.5], [0, -0.43", 0), 0u) << points;
+  // The list's bracket and 16 points: the first segment is straight (x = 0), so of its 15
+  // samples only P0 is written; the second is curved: P1 and its 14 samples.
+  EXPECT_EQ(count(points, "["), 17u) << points;
+  EXPECT_EQ(points.rfind("[[0, -0.5], [0, 0.5], [0.112, ", 0), 0u) << points;
   // Sample 0 of the second segment is P1; sample 8 of it is the curve at t = 8/15,
   // x = 1.8 t (1 - t) = 0.448.
   EXPECT_NE(points.find("[0, 0.5], [0.112, "), std::string::npos) << points;

@@ -1,16 +1,19 @@
 #pragma once
-// The convert module: a 3D mesh to an editable CSG program of CAD primitives (box, cylinder,
-// cone, sphere, torus, half-space), crisp, in the mesh's own coordinates. This header is its
+// The convert module: a 3D mesh, or an OpenSCAD model (.csg), to an editable CSG program of CAD
+// primitives (box, cylinder, cone, sphere, torus, half-space, and prisms: a polygon extruded),
+// crisp, in the input's own coordinates. This header is its
 // main one (convert, ConvertOptions, ConvertResult); the other:
 //   detect.hpp  detect_surfaces: the planes, cylinders, spheres, cones and tori of a mesh.
 //
 // The stages, each timed in the result:
 //   load     the mesh as a target (inside by Embree rays) in a normalised box, and its surface;
+//            a .csg model as its tree (the true solid, the target), meshed for the surface;
 //   detect   the surfaces the part is made of (CGAL's Efficient RANSAC, Schnabel et al. 2007);
 //   search   on a grid of cells labelled inside or outside, laid along the frame most planes
 //            follow: for each connected component of the part, a chain of booleans
 //            ((s1 ∪ s2) \ s3) ∩ s4 ... of solids proposed from the surfaces (boxes between planes,
-//            cylinders and cones with their caps, spheres, tori, half-spaces), chosen greedily
+//            cylinders and cones with their caps, spheres, tori, half-spaces, prisms whose
+//            walls are planes around a hole or a boss), chosen greedily
 //            by the cells each move puts right, from several random restarts in parallel, the
 //            best kept and the steps that do not pay for themselves dropped;
 //   refine   the tree's parameters by fuzzy gradient descent (Liu et al. 2024): sigmoid steps
@@ -29,6 +32,7 @@
 
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/core/triangle_mesh.hpp"
 #include "fuzzycsg/fit/metrics.hpp"
 
 namespace fuzzycsg::convert {
@@ -75,8 +79,11 @@ struct ConvertResult {
   Metrics metrics;     // in the normalised box (chamfer, hausdorff: see below)
   // Chamfer and Hausdorff distances in the mesh's units.
   std::optional<double> chamfer, hausdorff;
-  Similarity normalisation;           // the mesh's coordinates to the normalised box
-  std::string target;                 // Target::describe()
+  Similarity normalisation;  // the mesh's coordinates to the normalised box
+  std::string target;        // Target::describe()
+  // The target's surface in its own coordinates: the file's mesh, or a .csg model's 0.5 level
+  // set meshed (marching cubes, 256 cells along its longest side).
+  TriangleMesh target_mesh;
   std::vector<std::string> surfaces;  // the detected surfaces, one line each
   int components = 0;                 // connected parts found on the grid
   long long grid_cells = 0, dropped_cells = 0;
@@ -93,10 +100,20 @@ struct ConvertResult {
   double seconds = 0;
 };
 
-// Converts a closed triangle mesh (OBJ, STL, PLY, OFF). Throws InputError naming the file for
-// unreadable or unsuitable input. Deterministic for a seed and thread count.
+// Converts a closed triangle mesh (OBJ, STL, PLY, OFF) or an OpenSCAD model as `openscad -o
+// model.csg` writes it (the nodes scad::read_csg takes; its leaves boxes, cylinders, cones and
+// spheres). Throws InputError naming the file for unreadable or unsuitable input. Deterministic for
+// a seed and thread count.
 ConvertResult convert(const std::string& path, const ConvertOptions& options = {},
                       const ConvertHooks& hooks = {});
+
+// A mesh of a crisp tree of convert's solids (box, cylinder, cone, sphere, torus, half-space,
+// prism; a tree that convert writes): its 0.5 level set by marching cubes, `resolution` cells
+// along the longest side of its leaves' bounds, with each leaf's step a sigmoid about a cell
+// wide and min/max booleans, so that flat and curved faces come out smooth rather than as a
+// crisp tree's steps on the grid, and edges are cut by less than a cell. Throws InputError for a
+// leaf of another family.
+TriangleMesh solid_mesh(const Tree& tree, int resolution = 192, int threads = 0);
 
 // report.json: the target, the settings, the measures, the stages' times and the tree's
 // primitives.

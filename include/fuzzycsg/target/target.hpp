@@ -51,6 +51,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/transform.hpp"
+#include "fuzzycsg/core/tree.hpp"
 
 namespace fuzzycsg {
 
@@ -97,6 +98,11 @@ struct TargetOptions {
 // Reads a target; throws InputError with a one-line message naming the file on unreadable,
 // empty or degenerate input (a mesh with no volume, an all-white picture, ...).
 std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options = {});
+
+// A tree held in memory as a target, as a tree file is read (its domain box is what
+// [-1, 1]^dim stands for; occupancy >= 0.5 is inside); `name` names it in describe().
+std::unique_ptr<Target> tree_target(Tree tree, const std::string& name,
+                                    const TargetOptions& options = {});
 
 // How the training points are drawn.
 enum class SamplingScheme {
