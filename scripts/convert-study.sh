@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# `fuzzycsg convert` with its defaults on the OpenSCAD models rendered to meshes (their .ref.off)
-# and the CAD meshes of the data collection, one row per shape: primitives (and the original
+# `fuzzycsg convert` with its defaults on the OpenSCAD models rendered to meshes (their .ref.off),
+# the CAD meshes of the data collection and the OpenSCAD models themselves (.csg), one row per
+# shape: primitives (and the original
 # program's count, where known), IoU, Chamfer and Hausdorff distances to the mesh, and time.
 # Usage: scripts/convert-study.sh [FUZZYCSG [OUTDIR [THREADS]]]
-# Writes OUTDIR/<shape>/ (every output of convert), OUTDIR/shapes.txt (the rows below) and
-# OUTDIR/table.md.
+# Writes OUTDIR/<shape>/ (every output of convert), OUTDIR/shapes.txt (the meshes' rows below),
+# OUTDIR/table.md (the meshes) and OUTDIR/models.md (the OpenSCAD models given as .csg).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/data-dir.sh
@@ -32,14 +33,24 @@ shapes=(
   "fandisk $cad/cgal_fandisk.off - held-out"
   "pinion $cad/cgal_pinion.off - held-out"
 )
+# The same OpenSCAD models given as the programs themselves (`openscad -o x.csg`, .openscad.csg):
+# the target is the model's exact solid, not its faceted mesh.
+models=(
+  "CSG.csg $scad/Basics/CSG.openscad.csg 6 tuned"
+  "logo.csg $scad/Basics/logo.openscad.csg 4 held-out"
+  "example001.csg $scad/Old/example001.openscad.csg 4 held-out"
+  "example003.csg $scad/Old/example003.openscad.csg 7 held-out"
+  "example004.csg $scad/Old/example004.openscad.csg 2 tuned"
+)
 printf '%s\n' "${shapes[@]}" >"$out/shapes.txt"  # read by bench/convert_vs_fit.py
-for row in "${shapes[@]}"; do
-  read -r name mesh _ _ <<<"$row"
+for row in "${shapes[@]}" "${models[@]}"; do
+  read -r name input _ _ <<<"$row"
   [[ -n "${ONLY_TABLE:-}" ]] && continue
-  "$bin" convert "$mesh" -o "$out/$name" --threads "$threads" -q 2>"$out/$name.err" ||
+  "$bin" convert "$input" -o "$out/$name" --threads "$threads" -q 2>"$out/$name.err" ||
     echo "convert: $name failed: $(tail -1 "$out/$name.err")" >&2
 done
-printf '%s\n' "${shapes[@]}" | python3 -c '
+table() {
+  python3 -c '
 import json, os, sys
 out = sys.argv[1]
 print("| shape | tuned on | primitives (original) | IoU | Chamfer | Hausdorff | seconds |")
@@ -56,4 +67,7 @@ for line in sys.stdin:
     row = (name, tuned, r["primitives"], known, m["iou"], f(m["chamfer"]), f(m["hausdorff"]),
            r["seconds"]["total"])
     print("| %s | %s | %d (%s) | %.4f | %s | %s | %.1f |" % row)
-' "$out" | tee "$out/table.md"
+' "$out"
+}
+printf '%s\n' "${shapes[@]}" | table | tee "$out/table.md"
+printf '%s\n' "${models[@]}" | table | tee "$out/models.md"

@@ -1,8 +1,9 @@
-// fuzzycsg convert MESH|MODEL.csg -o OUTDIR [--max-primitives K] [--time-limit S] [--seed N]
+// fuzzycsg convert MESH|MODEL.csg|PICTURE -o OUTDIR [--max-primitives K] [--time-limit S] [--seed
+// N]
 //                  [--threads N] [--resolution R] [--restarts N] [--refine-steps N]
 //                  [--padding P] [--metric-points N] [-q]
 //
-// A part's mesh, or an OpenSCAD model (.csg), as an editable CSG program of CAD primitives
+// A part's mesh, an OpenSCAD model (.csg) or a picture as an editable CSG program of primitives
 // (fuzzycsg/convert/convert.hpp). Writes OUTDIR/tree.json (crisp, in the input's coordinates),
 // model.scad (OpenSCAD primitives only), report.json, render.png (target and result side by
 // side) and, with the diagram module, diagram.svg.
@@ -22,6 +23,11 @@
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/render/render.hpp"
 #include "fuzzycsg/scad/scad.hpp"
+#include "fuzzycsg/trace/bitmap.hpp"
+#include "fuzzycsg/trace/convert.hpp"
+#include "fuzzycsg/trace/evaluate.hpp"
+#include "fuzzycsg/trace/morph_frames.hpp"
+#include "fuzzycsg/trace/pictures.hpp"
 #if FUZZYCSG_HAVE_DIAGRAM
 #include "fuzzycsg/diagram/diagram.hpp"
 #endif
@@ -51,6 +57,22 @@ class StagePrinter {
   bool on_;
 };
 
+// Target and result side by side: 3D, the mesh and a smooth mesh of the tree from the same
+// cameras; 2D, the traced tree over the picture (trace's result picture).
+std::string comparison_png(const ConvertJob& a, const convert::ConvertResult& r) {
+  if (r.tree.dim == 2) {
+    const trace::Bitmap picture = trace::read_bitmap(a.target);
+    const int w = picture.width(), h = picture.height();
+    const trace::TreeEvaluator result(trace::from_tree(r.tree, w, h), w, h);
+    return trace::result_png(result.result(), picture, trace::display_scale(w, h));
+  }
+  ComparisonOptions co;
+  co.threads = a.options.threads;
+  co.result_label = fmt::format("convert: {} primitives", r.primitives);
+  return render_comparison_png(r.target_mesh,
+                               convert::solid_mesh(r.tree, co.resolution, co.threads), co);
+}
+
 }  // namespace
 
 int run_convert_job(const ConvertJob& a) {
@@ -74,19 +96,15 @@ int run_convert_job(const ConvertJob& a) {
   eo.source = std::filesystem::path(a.target).filename().string();
   eo.writer = "fuzzycsg convert";
   eo.leaf_comments = false;  // each line's primitive says what it is; tree.json has the paths
-  const bool model = has_extension(a.target, {".csg"});
+  const char* against = r.tree.dim == 2                     ? "picture"
+                        : has_extension(a.target, {".csg"}) ? "model"
+                                                            : "mesh";
   eo.note = fmt::format("IoU {:.4f} against the {}{}; settings and measures in report.json.",
-                        r.metrics.iou, model ? "model" : "mesh",
+                        r.metrics.iou, against,
                         r.chamfer ? fmt::format(", Chamfer distance {:.3g}", *r.chamfer) : "");
   scad::write_scad(r.tree, r.tree.params.values(), dir / "model.scad", eo);
   io::write_text_file_atomic(dir / "report.json", convert::report_json(r, a.options));
-  ComparisonOptions co;
-  co.threads = a.options.threads;
-  co.result_label = fmt::format("convert: {} primitives", r.primitives);
-  io::write_text_file_atomic(
-      dir / "render.png",
-      render_comparison_png(r.target_mesh, convert::solid_mesh(r.tree, co.resolution, co.threads),
-                            co));
+  io::write_text_file_atomic(dir / "render.png", comparison_png(a, r));
 #if FUZZYCSG_HAVE_DIAGRAM
   write_diagram(r.tree, dir / "diagram.svg");
 #endif
@@ -113,7 +131,8 @@ Verb register_convert(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "convert", "A part's mesh as an editable CSG program of CAD primitives (tree, OpenSCAD)");
   cmd->add_option("target", a->target,
-                  "Closed triangle mesh (OBJ, STL, PLY, OFF) or OpenSCAD model (.csg)")
+                  "Closed triangle mesh (OBJ, STL, PLY, OFF), OpenSCAD model (.csg) or picture "
+                  "(PNG, JPEG, PBM, PGM)")
       ->required();
   cmd->add_option("-o,--output", a->out_dir, "Output directory")->required();
   auto& o = a->options;

@@ -12,6 +12,7 @@
 
 #include "convert/candidates.hpp"
 #include "convert/csg_input.hpp"
+#include "convert/picture.hpp"
 #include "convert/program.hpp"
 #include "convert/refine.hpp"
 #include "convert/search.hpp"
@@ -89,7 +90,8 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
     return in;
   }
   if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
-    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF) or an OpenSCAD .csg");
+    throw InputError(
+        path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF), an OpenSCAD .csg or a picture");
   }
   // A surface that bounds no solid would give an inside test that depends on the ray's
   // direction; refuse it with its defect named rather than convert noise.
@@ -99,7 +101,8 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   }
   in.target = load_target(path, target_options);
   if (in.target->kind() != "mesh" || in.target->dim() != 3) {
-    throw InputError(path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF) or an OpenSCAD .csg");
+    throw InputError(
+        path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF), an OpenSCAD .csg or a picture");
   }
   return in;
 }
@@ -122,6 +125,7 @@ void validate(const ConvertOptions& o) {
 ConvertResult convert(const std::string& path, const ConvertOptions& options,
                       const ConvertHooks& hooks) {
   validate(options);
+  if (is_picture(path)) return convert_picture(path, options, hooks);
   const Clock::time_point start = Clock::now();
   ConvertResult result;
   Stages stages(result, hooks);

@@ -32,8 +32,13 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
   j["time_limit_reached"] = r.time_limit_reached;
   j["primitives"] = r.primitives;
   ordered_json kinds = ordered_json::object();
-  for (const Solid& s : tree_solids(r.tree)) {
-    const std::string name(solid_kind_name(s.kind));
+  const std::vector<double> params = r.tree.params.values();
+  for (int i = 0; i < static_cast<int>(r.tree.nodes.size()); ++i) {
+    const Node& n = r.tree.node(i);
+    if (n.kind != NodeKind::kPrimitive) continue;
+    // 3D: the solid's kind ("prism" for an extrude of straight sides); 2D: the leaf's family.
+    const std::optional<Solid> s = solid_of_leaf(r.tree, params, i);
+    const std::string name(s ? solid_kind_name(s->kind) : primitive_info(n.shape.type).name);
     kinds[name] = kinds.value(name, 0) + 1;
   }
   j["primitive_kinds"] = kinds;

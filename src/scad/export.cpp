@@ -164,15 +164,20 @@ double leaf_value(const Tree& tree, std::span<const double> params, const Node& 
   return f.s * primitive_value<double>(n.shape, std::span<const double>(theta), p.data());
 }
 
+// The leaf's placement as OpenSCAD transforms; a translation or rotation by zero, which is no
+// transform, is left out.
 std::string placement_prefix(const Tree& tree, std::span<const double> params, const Node& n) {
   const auto& pl = n.placement;
+  const auto zero = [&](const std::vector<ParamRef>& refs) {
+    return std::all_of(refs.begin(), refs.end(), [&](ParamRef r) { return params[r.index] == 0; });
+  };
   std::string s;
-  if (!pl.translate.empty()) {
+  if (!pl.translate.empty() && !zero(pl.translate)) {
     std::vector<double> t;
     for (const ParamRef r : pl.translate) t.push_back(params[r.index]);
     s += "translate(" + vec(t) + ") ";
   }
-  if (!pl.rotate.empty()) {
+  if (!pl.rotate.empty() && !zero(pl.rotate)) {
     if (tree.dim == 3) {
       std::vector<double> r;
       for (const ParamRef p : pl.rotate) r.push_back(params[p.index]);

@@ -81,6 +81,19 @@ assert "against the model" in scad, scad
 assert open(d + "/render.png", "rb").read(4) == b"\x89PNG"
 PY
 then ok; else bad "convert: an OpenSCAD model is not its own two primitives"; fi
+# A picture: a crisp 2D program of circles and squares, drawn over the picture.
+if "$bin" convert "$src/tests/data/glyphs/DejaVuSans-Bold_U0050_P.png" -o "$tmp/cvpic" --threads 2 -q &&
+    python3 - "$tmp/cvpic" <<'PY'
+import json, sys
+d = sys.argv[1]
+r = json.load(open(d + "/report.json"))
+assert r["metrics"]["iou"] >= 0.97 and 2 <= r["primitives"] <= 8, r["metrics"]
+assert set(r["primitive_kinds"]) <= {"circle", "rectangle"}, r["primitive_kinds"]
+scad = open(d + "/model.scad").read()
+assert "square(" in scad and "against the picture" in scad and "polygon" not in scad, scad
+assert open(d + "/render.png", "rb").read(4) == b"\x89PNG"
+PY
+then ok; else bad "convert: a picture is not a crisp 2D program"; fi
 # Bad input: one line, exit 2, nothing written.
 cat >"$tmp/sphere.json" <<'JSON'
 {"format": "fuzzycsg-tree", "version": 1, "dim": 3,
