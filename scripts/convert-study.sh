@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # `fuzzycsg convert` with its defaults on the OpenSCAD models rendered to meshes (their .ref.off),
-# the CAD meshes of the data collection and the OpenSCAD models themselves (.csg), one row per
-# shape: primitives (and the original
+# the CAD meshes of the data collection, the OpenSCAD models themselves (.csg) and nine glyphs
+# (pictures), one row per shape: primitives (and the original
 # program's count, where known), IoU, Chamfer and Hausdorff distances to the mesh, and time.
 # Usage: scripts/convert-study.sh [FUZZYCSG [OUTDIR [THREADS]]]
 # Writes OUTDIR/<shape>/ (every output of convert), OUTDIR/shapes.txt (the meshes' rows below),
-# OUTDIR/table.md (the meshes) and OUTDIR/models.md (the OpenSCAD models given as .csg).
+# OUTDIR/table.md (the meshes), OUTDIR/models.md (the OpenSCAD models given as .csg) and
+# OUTDIR/pictures.md (glyphs). STUDY_SETS="meshes models pictures" (the default) chooses which
+# to convert.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/data-dir.sh
@@ -28,7 +30,7 @@ shapes=(
   "pipe $cad/cgal_pipe.off - held-out"
   "cross $cad/cgal_cross.off - held-out"
   "corner $cad/cgal_corner.off - held-out"
-  "P $cad/cgal_P.off - held-out"
+  "P $cad/cgal_P.off - tuned"
   "couplingdown $cad/cgal_couplingdown.off - held-out"
   "fandisk $cad/cgal_fandisk.off - held-out"
   "pinion $cad/cgal_pinion.off - held-out"
@@ -42,8 +44,22 @@ models=(
   "example003.csg $scad/Old/example003.openscad.csg 7 held-out"
   "example004.csg $scad/Old/example004.openscad.csg 2 tuned"
 )
+# Pictures: the nine glyphs of the 2D study of Fig. 12 (docs/results.md).
+glyphs=$(fuzzycsg_data_dir glyphs) || exit 2
+pictures=()
+for g in 0026_ampersand 002B_plus 0030_0 0038_8 003F_question 0045_E 0050_P 0062_b 0069_i; do
+  tuned=held-out
+  [[ $g == 0050_P ]] && tuned=tuned
+  pictures+=("glyph-${g#*_} $glyphs/DejaVuSans-Bold_U$g.png - $tuned")
+done
 printf '%s\n' "${shapes[@]}" >"$out/shapes.txt"  # read by bench/convert_vs_fit.py
-for row in "${shapes[@]}" "${models[@]}"; do
+# STUDY_SETS: which of the three to convert (the tables are written for all that have results).
+sets=${STUDY_SETS:-meshes models pictures}
+rows=()
+[[ $sets == *meshes* ]] && rows+=("${shapes[@]}")
+[[ $sets == *models* ]] && rows+=("${models[@]}")
+[[ $sets == *pictures* ]] && rows+=("${pictures[@]}")
+for row in "${rows[@]}"; do
   read -r name input _ _ <<<"$row"
   [[ -n "${ONLY_TABLE:-}" ]] && continue
   "$bin" convert "$input" -o "$out/$name" --threads "$threads" -q 2>"$out/$name.err" ||
@@ -71,3 +87,4 @@ for line in sys.stdin:
 }
 printf '%s\n' "${shapes[@]}" | table | tee "$out/table.md"
 printf '%s\n' "${models[@]}" | table | tee "$out/models.md"
+printf '%s\n' "${pictures[@]}" | table | tee "$out/pictures.md"

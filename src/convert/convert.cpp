@@ -107,6 +107,50 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   return in;
 }
 
+// The tidy stage's outcome: the tree in the mesh's units and in the normalised box.
+struct Tidied {
+  TidyResult tidy;
+  Tree mesh_units, normalised;
+  bool finer = false;  // tidied again with a quarter of the tolerances, or not at all
+};
+
+Tidied tidy_tree(const Tree& tree, const Similarity& normalisation, const Target& target,
+                 const LabelGrid& grid, const TidyOptions& options) {
+  Tidied t;
+  t.tidy = tidy_solids(tree, normalisation, target, grid, options);
+  const Domain box = tree.domain_or_default();
+  const Similarity to_mesh = normalisation.inverse();
+  t.mesh_units =
+      tree_with_solids(tree, t.tidy.solids, Domain{to_mesh.apply(box.min), to_mesh.apply(box.max)});
+  std::vector<Solid> in_box;
+  for (const Solid& s : t.tidy.solids) in_box.push_back(s.mapped(normalisation));
+  t.normalised = tree_with_solids(tree, in_box, box);
+  return t;
+}
+
+// Tidied, unless the roundings take a tree that reaches ConvertOptions::warn_iou below it: then
+// tidied again with a quarter of the tolerances, and not at all when that is still below.
+Tidied tidy_within_bar(const Tree& tree, const Similarity& normalisation, const Target& target,
+                       const LabelGrid& grid, TidyOptions tidy, const ConvertOptions& options) {
+  Tidied t = tidy_tree(tree, normalisation, target, grid, tidy);
+  if (!tidy.enabled) return t;
+  MetricsOptions iou_only = options.metrics;
+  iou_only.chamfer = false;
+  const auto iou = [&](const Tree& x) {
+    return measure(x, x.params.values(), target, iou_only).iou;
+  };
+  if (iou(t.normalised) >= options.warn_iou || iou(tree) < options.warn_iou) return t;
+  tidy.step_tolerance /= 4;
+  tidy.total_tolerance /= 4;
+  t = tidy_tree(tree, normalisation, target, grid, tidy);
+  if (iou(t.normalised) < options.warn_iou) {
+    tidy.enabled = false;
+    t = tidy_tree(tree, normalisation, target, grid, tidy);
+  }
+  t.finer = true;
+  return t;
+}
+
 }  // namespace
 
 void validate(const ConvertOptions& o) {
@@ -236,18 +280,14 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   tidy.enabled = options.tidy;
   tidy.seed = options.seed;
   tidy.deadline = at(0.95);
-  const TidyResult tidied = tidy_solids(best, result.normalisation, *target, grid, tidy);
-  result.tidy_error = tidied.error_after;
-  result.time_limit_reached = result.time_limit_reached || tidied.stopped;
-  result.axes_snapped = tidied.axes_snapped;
-  result.values_rounded = tidied.values_rounded;
-  const Domain box = best.domain_or_default();
-  const Similarity to_mesh = result.normalisation.inverse();
-  result.tree =
-      tree_with_solids(best, tidied.solids, Domain{to_mesh.apply(box.min), to_mesh.apply(box.max)});
-  std::vector<Solid> in_box;
-  for (const Solid& s : tidied.solids) in_box.push_back(s.mapped(result.normalisation));
-  best = tree_with_solids(best, in_box, box);
+  const Tidied tidied = tidy_within_bar(best, result.normalisation, *target, grid, tidy, options);
+  result.tidy_error = tidied.tidy.error_after;
+  result.time_limit_reached = result.time_limit_reached || tidied.tidy.stopped;
+  result.axes_snapped = tidied.tidy.axes_snapped;
+  result.values_rounded = tidied.tidy.values_rounded;
+  result.tidy_finer = tidied.finer;
+  result.tree = tidied.mesh_units;
+  best = tidied.normalised;
   stages.end();
 
   stages.begin("measure");

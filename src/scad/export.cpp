@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
 #include <string>
 #include <utility>
@@ -373,6 +374,36 @@ struct Writer {
 
   // The set of `cls`, cut so that it is exact within the points `pts` (the cover's corners in
   // the class's frame). One statement.
+  // The half-space n.p <= offset (n a unit vector) where it meets the cover (`pts`: its
+  // corners), as a cube turned so that its top face lies in the plane: rotate([0, ay, az])
+  // takes z onto n, and the cube [-s, s]^2 x [offset - 2s, offset] holds every point of the
+  // cover on the inner side when s is at least the farthest corner's distance (rounded up to
+  // two significant digits, for a readable line).
+  Lines half_space(const Point& n, double offset, std::span<const Point> pts) {
+    double reach = 0.0;
+    for (const Point& p : pts) reach = std::max(reach, std::hypot(p[0], p[1], p[2]));
+    if (offset <= -reach) return empty();
+    if (offset >= reach) return space();
+    unbounded = true;
+    const double quantum = std::pow(10.0, std::floor(std::log10(reach)) - 1.0);
+    const double half = std::ceil(reach / quantum) * quantum;
+    constexpr double kDegrees = 180.0 / std::numbers::pi;
+    const double ay = std::acos(std::clamp(n[2], -1.0, 1.0)) * kDegrees;
+    const double az = std::hypot(n[0], n[1]) > 1e-12 ? std::atan2(n[1], n[0]) * kDegrees : 0.0;
+    // Angles to a millionth of a degree: what an axis within rounding of a world axis reads as.
+    const auto angle = [](double a) { return num(std::round(a * 1e6) / 1e6); };
+    Lines l;
+    const auto component = [](double v) {
+      return v == 0 ? std::string("0") : fmt::format("{:.4g}", v);
+    };
+    l.add(0, fmt::format("rotate([0, {}, {}]) translate([{}, {}, {}]) cube({});  // half-space "
+                         "({}, {}, {}) . p <= {}",
+                         angle(ay), angle(az), num(-half), num(-half), num(offset - 2 * half),
+                         num(2 * half), component(n[0]), component(n[1]), component(n[2]),
+                         num(offset)));
+    return l;
+  }
+
   Lines classified(const QuadricClass& cls, std::span<const Point> pts) {
     if (cls.kind == QuadricKind::kEmpty) return empty();
     if (cls.kind == QuadricKind::kFull) return space();
@@ -729,9 +760,13 @@ struct Writer {
         for (int i = 0; i < d; ++i) {
           unit[static_cast<std::size_t>(i)] = th[static_cast<std::size_t>(i)] / norm;
         }
-        const QuadricClass cls = plane_class(d, unit, th[static_cast<std::size_t>(d)]);
         std::vector<Point> pts;
         for (const Point& c : corners(cover, d)) pts.push_back(frame.to_local(c));
+        if (d == 3) {
+          l = half_space(unit, th[3], pts);
+          break;
+        }
+        const QuadricClass cls = plane_class(d, unit, th[static_cast<std::size_t>(d)]);
         l = classified(cls, pts);
         break;
       }

@@ -70,7 +70,13 @@ TEST(ScadExport, EveryFamilyOpenScadHas) {
   EXPECT_NE(s.find("scale([0.3, 0.2, 0.1]) sphere(r = 1);"), std::string::npos);
   EXPECT_NE(s.find("hull() {"), std::string::npos);
   EXPECT_NE(s.find("translate([0, 0, -0.3]) sphere(r = 0.1);"), std::string::npos);
-  // The plane z < 0.25 as a box of the cover's extent below it; the model is then clipped.
+  // The plane z < 0.25 as a cube turned (by no angle) with its top face in the plane, half as
+  // wide as the cover's farthest corner is distant (1.2 sqrt 3 = 2.08, rounded up to 2.1); the
+  // model is then clipped.
+  EXPECT_NE(s.find("rotate([0, 0, 0]) translate([-2.1, -2.1, -3.95]) cube(4.2);  // half-space (0, "
+                   "0, 1) . p <= 0.25"),
+            std::string::npos)
+      << s;
   EXPECT_NE(s.find("intersection() {\n  fuzzycsg_domain();"), std::string::npos) << s;
   EXPECT_NE(s.find("module fuzzycsg_space() translate([-1.2, -1.2, -1.2]) cube([2.4, 2.4, 2.4]);"),
             std::string::npos);

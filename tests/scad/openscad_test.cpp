@@ -131,6 +131,23 @@ TEST(OpenScad, FoldedBooleans) {
   expect_matches(tree, r, 0.02, 0.97);
 }
 
+// Half-spaces (convert's cuts) as turned cubes: a box cut by two slanted planes, one of them
+// with a normal along no world plane, and a plane that misses the box entirely.
+TEST(OpenScad, HalfSpacesAsTurnedCubes) {
+  FUZZYCSG_REQUIRE_OPENSCAD();
+  const Tree tree = io::read_tree_string(tree_text(3, R"({"op": "intersection", "children": [
+    {"type": "box", "size": [1.2, 1.0, 0.8]},
+    {"type": "plane", "normal": [1, 1, 0], "offset": 0.3},
+    {"type": "plane", "normal": [-1, 2, -3], "offset": 0.2},
+    {"type": "plane", "normal": [0, 0, -1], "offset": 0.5}]})"));
+  const Rendered r = render("half_spaces", tree, options());
+  std::ifstream in(r.scad);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("rotate([0, 90, 45]) translate(["), std::string::npos) << text;
+  EXPECT_EQ(text.find("multmatrix"), std::string::npos) << text;
+  expect_matches(tree, r, 0.02, 0.97);
+}
+
 // The text with every "translate([...]) rotate([...])" written "rotate([...]) translate([...])".
 std::string swap_translate_rotate(const std::string& text) {
   std::string out;

@@ -21,7 +21,9 @@
 //            Adam on the squared error at points near the surface; then each solid, crisp, takes
 //            its refined placement and size where that gets fewer cells wrong;
 //   tidy     axes within a few degrees of the world's snapped to them, and lengths and
-//            coordinates rounded in the mesh's units as coarsely as the grid's error allows;
+//            coordinates rounded in the mesh's units as coarsely as the grid's error allows
+//            (never taking a result that reaches warn_iou below it: then rounded more finely,
+//            or not at all);
 //   measure  IoU, Chamfer and Hausdorff distances against the target.
 
 #include <cstdint>
@@ -87,13 +89,16 @@ struct ConvertResult {
   std::vector<std::string> surfaces;  // the detected surfaces, one line each
   int components = 0;                 // connected parts found on the grid
   long long grid_cells = 0, dropped_cells = 0;
-  long long search_error = 0;       // wrong cells of the search's tree
-  long long refine_error = -1;      // wrong cells of the refined tree (-1: not refined)
-  bool refined = false;             // some of the refined solids were kept
-  int refined_solids = 0;           // solids that took their refined placement and size
-  long long tidy_error = 0;         // wrong samples of the tidy stage, after it
-  int axes_snapped = 0;             // solids turned onto the world's axes
-  int values_rounded = 0;           // numbers rounded coarser than a thousandth of the part
+  long long search_error = 0;   // wrong cells of the search's tree
+  long long refine_error = -1;  // wrong cells of the refined tree (-1: not refined)
+  bool refined = false;         // some of the refined solids were kept
+  int refined_solids = 0;       // solids that took their refined placement and size
+  long long tidy_error = 0;     // wrong samples of the tidy stage, after it
+  int axes_snapped = 0;         // solids turned onto the world's axes
+  int values_rounded = 0;       // numbers rounded coarser than a thousandth of the part
+  // The roundings would have taken a tree that reaches warn_iou below it: tidied again with a
+  // quarter of the tolerances, or not at all.
+  bool tidy_finer = false;
   bool time_limit_reached = false;  // some stage ended early (ConvertOptions::time_limit)
   bool reached = true;              // metrics.iou >= ConvertOptions::warn_iou
   std::vector<StageTime> stages;
