@@ -26,7 +26,7 @@ shapes=(
   "example003 $scad/Old/example003.ref.off 7 held-out"
   "example004 $scad/Old/example004.ref.off 2 held-out"
   "hole $cad/cgal_hole.off - tuned"
-  "u $cad/cgal_u.off - held-out"
+  "u $cad/cgal_u.off - tuned"
   "pipe $cad/cgal_pipe.off - held-out"
   "cross $cad/cgal_cross.off - held-out"
   "corner $cad/cgal_corner.off - held-out"

@@ -83,7 +83,7 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   target_options.threads = options.threads;
   LoadedInput in;
   if (ext == ".csg") {
-    CsgInput csg = read_csg_input(path, options.padding, 256, options.threads);
+    CsgInput csg = read_csg_input(path, options.padding, 2 * options.resolution, options.threads);
     in.target = tree_target(std::move(csg.solid), std::filesystem::path(path).filename().string(),
                             target_options);
     in.mesh = std::move(csg.mesh);

@@ -65,6 +65,7 @@ TEST(ConvertPrism, BoxWithRhombusHoleIsABoxLessAPrism) {
   options.threads = 2;
   options.resolution = 64;
   options.restarts = 2;
+  options.refine_steps = 100;
   options.metrics.points = 200'000;
   const ConvertResult result = convert(path.string(), options);
   std::filesystem::remove_all(dir);

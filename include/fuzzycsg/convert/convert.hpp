@@ -84,7 +84,7 @@ struct ConvertResult {
   Similarity normalisation;  // the mesh's coordinates to the normalised box
   std::string target;        // Target::describe()
   // The target's surface in its own coordinates: the file's mesh, or a .csg model's 0.5 level
-  // set meshed (marching cubes, 256 cells along its longest side).
+  // set meshed (marching cubes, twice ConvertOptions::resolution cells along its longest side).
   TriangleMesh target_mesh;
   std::vector<std::string> surfaces;  // the detected surfaces, one line each
   int components = 0;                 // connected parts found on the grid
