@@ -106,6 +106,27 @@ inline TriangleMesh uv_sphere_mesh(const Vector3d& centre, double r, int rings, 
   return mesh;
 }
 
+// The quadrilaterals between two rings of vertices around an axis along z (inner and outer, at
+// the same angles, counter-clockwise), at the bottom and the top: the top and bottom annuli, the
+// outer wall facing out and the inner wall facing the axis.
+inline void add_walls_and_annuli(TriangleMesh& mesh, const std::vector<int>& inner_bottom,
+                                 const std::vector<int>& inner_top,
+                                 const std::vector<int>& outer_bottom,
+                                 const std::vector<int>& outer_top) {
+  const std::size_t n = inner_bottom.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    mesh.triangles.push_back({inner_top[i], outer_top[i], outer_top[j]});
+    mesh.triangles.push_back({inner_top[i], outer_top[j], inner_top[j]});
+    mesh.triangles.push_back({inner_bottom[i], outer_bottom[j], outer_bottom[i]});
+    mesh.triangles.push_back({inner_bottom[i], inner_bottom[j], outer_bottom[j]});
+    mesh.triangles.push_back({outer_bottom[i], outer_bottom[j], outer_top[j]});
+    mesh.triangles.push_back({outer_bottom[i], outer_top[j], outer_top[i]});
+    mesh.triangles.push_back({inner_bottom[i], inner_top[j], inner_bottom[j]});
+    mesh.triangles.push_back({inner_bottom[i], inner_top[i], inner_top[j]});
+  }
+}
+
 // The box [-a, a]^2 x [0, h] with a hole of radius r along z through its middle, the hole a
 // 32-gon (vertices on the circle). The square's sides are cut where the rays from the axis at
 // the polygon's angles meet them (the corners among them), so that its faces are flat
@@ -123,19 +144,7 @@ inline TriangleMesh box_with_hole_mesh(double a, double r, double h) {
     outer_bottom.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, 0)));
     outer_top.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, h)));
   }
-  for (int i = 0; i < kSides; ++i) {
-    const int j = (i + 1) % kSides;
-    // Top and bottom annuli.
-    mesh.triangles.push_back({inner_top[i], outer_top[i], outer_top[j]});
-    mesh.triangles.push_back({inner_top[i], outer_top[j], inner_top[j]});
-    mesh.triangles.push_back({inner_bottom[i], outer_bottom[j], outer_bottom[i]});
-    mesh.triangles.push_back({inner_bottom[i], inner_bottom[j], outer_bottom[j]});
-    // Outer walls, facing out; the hole's wall, facing the axis.
-    mesh.triangles.push_back({outer_bottom[i], outer_bottom[j], outer_top[j]});
-    mesh.triangles.push_back({outer_bottom[i], outer_top[j], outer_top[i]});
-    mesh.triangles.push_back({inner_bottom[i], inner_top[j], inner_bottom[j]});
-    mesh.triangles.push_back({inner_bottom[i], inner_top[i], inner_top[j]});
-  }
+  add_walls_and_annuli(mesh, inner_bottom, inner_top, outer_bottom, outer_top);
   return mesh;
 }
 
@@ -177,18 +186,7 @@ inline TriangleMesh box_with_polygon_hole_mesh(double a, const std::vector<Eigen
     outer_bottom.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, 0)));
     outer_top.push_back(add_vertex(mesh, Vector3d(to_square * c, to_square * s, h)));
   }
-  const std::size_t n = angles.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t j = (i + 1) % n;
-    mesh.triangles.push_back({inner_top[i], outer_top[i], outer_top[j]});
-    mesh.triangles.push_back({inner_top[i], outer_top[j], inner_top[j]});
-    mesh.triangles.push_back({inner_bottom[i], outer_bottom[j], outer_bottom[i]});
-    mesh.triangles.push_back({inner_bottom[i], inner_bottom[j], outer_bottom[j]});
-    mesh.triangles.push_back({outer_bottom[i], outer_bottom[j], outer_top[j]});
-    mesh.triangles.push_back({outer_bottom[i], outer_top[j], outer_top[i]});
-    mesh.triangles.push_back({inner_bottom[i], inner_top[j], inner_bottom[j]});
-    mesh.triangles.push_back({inner_bottom[i], inner_top[i], inner_top[j]});
-  }
+  add_walls_and_annuli(mesh, inner_bottom, inner_top, outer_bottom, outer_top);
   return mesh;
 }
 
