@@ -107,6 +107,88 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   return in;
 }
 
+// The searched tree's solids refined by fuzzy gradient descent (unified operators, sigmoid
+// steps annealed), each taking its refined placement and size where that puts cells right: the
+// refinement's gains are kept and its losses (an end drawn onto a face, say) are not. Records
+// what it did in `result`.
+Tree refine_stage(const std::vector<Chain>& chains, const Tree& searched, const Target& target,
+                  const LabelGrid& grid, const ConvertOptions& options, Clock::time_point deadline,
+                  ConvertResult& result) {
+  RefineOptions refine;
+  BuildOptions soft;
+  soft.sharpness = refine.sharpness_start;
+  soft.unified = true;
+  refine.steps = options.refine_steps;
+  refine.seed = options.seed;
+  refine.threads = options.threads;
+  refine.deadline = deadline;
+  const RefineResult refined = refine_fuzzy(chains_tree(chains, soft), target, refine);
+  result.time_limit_reached = result.time_limit_reached || refined.stopped;
+  const std::vector<Solid> refined_solids = tree_solids(crisp_tree(refined.tree));
+  std::vector<Solid> solids = tree_solids(searched);
+  const GridScorer scorer = sample_scorer(target, grid, std::size_t{1} << 20, options.seed);
+  const Domain box = searched.domain_or_default();
+  long long error = scorer.error(searched, options.threads);
+  for (std::size_t i = 0; i < solids.size() && i < refined_solids.size(); ++i) {
+    const Solid kept = solids[i];
+    solids[i] = refined_solids[i];
+    const long long e = scorer.error(tree_with_solids(searched, solids, box), options.threads);
+    if (e < error) {
+      error = e;
+      ++result.refined_solids;
+    } else {
+      solids[i] = kept;
+    }
+  }
+  Tree best = searched;
+  if (result.refined_solids > 0) {
+    best = tree_with_solids(searched, solids, box);
+    result.refined = true;
+  }
+  result.refine_error = tree_error(best, grid, options.threads);
+  return best;
+}
+
+// The surfaces described one a line, in the mesh's units (`to_mesh`: from the normalised box).
+std::vector<std::string> described(const std::vector<Surface>& surfaces,
+                                   const Similarity& to_mesh) {
+  std::vector<std::string> out;
+  for (Surface s : surfaces) {
+    const double k = to_mesh.scale;
+    const std::array<double, 3> p = to_mesh.apply({s.point[0], s.point[1], s.point[2]});
+    s.point = {p[0], p[1], p[2]};
+    s.radius *= k;
+    s.minor_radius *= k;
+    s.area *= k * k;
+    s.rms *= k;
+    s.axial_min *= k;
+    s.axial_max *= k;
+    out.push_back(describe_surface(s));
+  }
+  return out;
+}
+
+// The final tree (in the normalised box) measured against the target. IoU and MSE are the crisp
+// tree's; the level set for the Chamfer and Hausdorff distances is meshed from its smooth form
+// (a sigmoid about a grid cell wide), so that they measure the solids, not the grid's steps on
+// their slanted and curved faces. The distances are also given in the mesh's units.
+void measure_stage(const Tree& best, const Target& target, const ConvertOptions& options,
+                   ConvertResult& result) {
+  MetricsOptions crisp_metrics = options.metrics;
+  crisp_metrics.chamfer = false;
+  result.metrics = measure(best, best.params.values(), target, crisp_metrics);
+  if (options.metrics.chamfer) {
+    const Tree smooth = smooth_tree(best, options.metrics.chamfer_resolution);
+    const Metrics distances = measure(smooth, smooth.params.values(), target, options.metrics);
+    result.metrics.chamfer = distances.chamfer;
+    result.metrics.hausdorff = distances.hausdorff;
+  }
+  if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer / result.normalisation.scale;
+  if (result.metrics.hausdorff) {
+    result.hausdorff = *result.metrics.hausdorff / result.normalisation.scale;
+  }
+}
+
 // The tidy stage's outcome: the tree in the mesh's units and in the normalised box.
 struct Tidied {
   TidyResult tidy;
@@ -187,19 +269,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   DetectOptions detect_options;
   detect_options.seed = options.seed;
   const std::vector<Surface> surfaces = detect_surfaces(mesh, detect_options);
-  const Similarity to_mesh_units = result.normalisation.inverse();
-  for (Surface s : surfaces) {  // described in the mesh's units
-    const double k = to_mesh_units.scale;
-    const std::array<double, 3> p = to_mesh_units.apply({s.point[0], s.point[1], s.point[2]});
-    s.point = {p[0], p[1], p[2]};
-    s.radius *= k;
-    s.minor_radius *= k;
-    s.area *= k * k;
-    s.rms *= k;
-    s.axial_min *= k;
-    s.axial_max *= k;
-    result.surfaces.push_back(describe_surface(s));
-  }
+  result.surfaces = described(surfaces, result.normalisation.inverse());
   stages.end();
 
   stages.begin("search");
@@ -238,39 +308,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   Tree best = searched;
   if (options.refine_steps > 0) {
     stages.begin("refine");
-    RefineOptions refine;
-    BuildOptions soft;
-    soft.sharpness = refine.sharpness_start;
-    soft.unified = true;
-    refine.steps = options.refine_steps;
-    refine.seed = options.seed;
-    refine.threads = options.threads;
-    refine.deadline = at(0.8);
-    const RefineResult refined = refine_fuzzy(chains_tree(chains, soft), *target, refine);
-    // Each solid takes its refined placement and size where that puts cells right: the
-    // refinement's gains are kept and its losses (an end drawn onto a face, say) are not.
-    result.time_limit_reached = result.time_limit_reached || refined.stopped;
-    const std::vector<Solid> refined_solids = tree_solids(crisp_tree(refined.tree));
-    std::vector<Solid> solids = tree_solids(searched);
-    const GridScorer scorer = sample_scorer(*target, grid, std::size_t{1} << 20, options.seed);
-    const Domain box = searched.domain_or_default();
-    long long error = scorer.error(searched, options.threads);
-    for (std::size_t i = 0; i < solids.size() && i < refined_solids.size(); ++i) {
-      const Solid kept = solids[i];
-      solids[i] = refined_solids[i];
-      const long long e = scorer.error(tree_with_solids(searched, solids, box), options.threads);
-      if (e < error) {
-        error = e;
-        ++result.refined_solids;
-      } else {
-        solids[i] = kept;
-      }
-    }
-    if (result.refined_solids > 0) {
-      best = tree_with_solids(searched, solids, box);
-      result.refined = true;
-    }
-    result.refine_error = tree_error(best, grid, options.threads);
+    best = refine_stage(chains, searched, *target, grid, options, at(0.8), result);
     stages.end();
   }
 
@@ -291,22 +329,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   stages.end();
 
   stages.begin("measure");
-  // IoU and MSE are the crisp tree's; the level set for the Chamfer and Hausdorff distances is
-  // meshed from its smooth form (a sigmoid about a grid cell wide), so that they measure the
-  // solids, not the grid's steps on their slanted and curved faces.
-  MetricsOptions crisp_metrics = options.metrics;
-  crisp_metrics.chamfer = false;
-  result.metrics = measure(best, best.params.values(), *target, crisp_metrics);
-  if (options.metrics.chamfer) {
-    const Tree smooth = smooth_tree(best, options.metrics.chamfer_resolution);
-    const Metrics distances = measure(smooth, smooth.params.values(), *target, options.metrics);
-    result.metrics.chamfer = distances.chamfer;
-    result.metrics.hausdorff = distances.hausdorff;
-  }
-  if (result.metrics.chamfer) result.chamfer = *result.metrics.chamfer / result.normalisation.scale;
-  if (result.metrics.hausdorff) {
-    result.hausdorff = *result.metrics.hausdorff / result.normalisation.scale;
-  }
+  measure_stage(best, *target, options, result);
   stages.end();
 
   result.reached = result.metrics.iou >= options.warn_iou;
