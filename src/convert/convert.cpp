@@ -323,6 +323,7 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   result.time_limit_reached = result.time_limit_reached || tidied.tidy.stopped;
   result.axes_snapped = tidied.tidy.axes_snapped;
   result.values_rounded = tidied.tidy.values_rounded;
+  result.angles_rounded = tidied.tidy.angles_rounded;
   result.tidy_finer = tidied.finer;
   result.tree = tidied.mesh_units;
   best = tidied.normalised;

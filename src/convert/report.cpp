@@ -55,6 +55,7 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
                  {"tidy_error_samples", r.tidy_error},
                  {"axes_snapped", r.axes_snapped},
                  {"values_rounded", r.values_rounded},
+                 {"angles_rounded", r.angles_rounded},
                  {"tidy_finer", r.tidy_finer}};
   ordered_json stages = ordered_json::object();
   for (const StageTime& s : r.stages) stages[s.name] = s.seconds;

@@ -1,5 +1,6 @@
 #include "convert/tidy.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -106,6 +107,37 @@ std::vector<std::pair<double*, bool>> numbers_of(Solid& s) {
   return out;
 }
 
+// The solid turned so that the angles OpenSCAD reads are multiples of `quantum` degrees: a
+// half-space's normal as the tilt from z and the turn about it that the export writes
+// (rotate([0, ay, az])), another solid's Euler angles (rotate([ax, ay, az])). nullopt for a
+// sphere, a solid on the world's axes, or angles already on the quantum.
+std::optional<Solid> angles_rounded(const Solid& s, double quantum) {
+  const auto round = [&](double a) { return std::round(a / quantum) * quantum; };
+  Solid out = s;
+  if (s.kind == SolidKind::kSphere) return std::nullopt;
+  if (s.kind == SolidKind::kHalfSpace) {
+    const Eigen::Vector3d n = s.normal();
+    const double ay = std::acos(std::clamp(n[2], -1.0, 1.0)) * kDegreesPerRadian;
+    const double az = std::atan2(n[1], n[0]) * kDegreesPerRadian;
+    const double ry = round(ay) / kDegreesPerRadian, rz = round(az) / kDegreesPerRadian;
+    const Eigen::Vector3d m(std::sin(ry) * std::cos(rz), std::sin(ry) * std::sin(rz), std::cos(ry));
+    if ((m - n).norm() < 1e-12) return std::nullopt;
+    out.rotation = rotation_with_z(m);
+    return out;
+  }
+  const Eigen::Vector3d e = euler_xyz_degrees(s.rotation);
+  const Eigen::Vector3d r(round(e[0]), round(e[1]), round(e[2]));
+  if ((r - e).cwiseAbs().maxCoeff() < 1e-9) return std::nullopt;
+  out.rotation = rotation_from_euler_degrees(r);
+  if (s.kind == SolidKind::kPrism) {
+    // The polygon keeps its place in the world, as axis_snapped does.
+    const Eigen::Matrix3d turn = out.rotation.transpose() * s.rotation;
+    for (Eigen::Vector2d& v : out.polygon)
+      v = (turn * Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
+  }
+  return out;
+}
+
 class Tidier {
  public:
   Tidier(const Tree& tree, const Similarity& normalisation, const Target& target,
@@ -201,6 +233,22 @@ TidyResult tidy_solids(const Tree& tree, const Similarity& normalisation, const 
   for (std::size_t i = 0; i < solids.size(); ++i) {
     if (const std::optional<Solid> s = axis_snapped(solids[i], options.snap_angle_deg)) {
       result.axes_snapped += tidier.try_solid(solids, i, *s) ? 1 : 0;
+    }
+  }
+  // Angles off the axes: to whole degrees where the error allows, else halves, tenths, and a
+  // thousandth of a degree at least.
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    bool done = false;
+    for (const double quantum : {1.0, 0.5, 0.1}) {
+      const std::optional<Solid> s = angles_rounded(solids[i], quantum);
+      if (!s || tidier.try_solid(solids, i, *s)) {
+        result.angles_rounded += s ? 1 : 0;
+        done = true;
+        break;
+      }
+    }
+    if (!done) {
+      if (const std::optional<Solid> s = angles_rounded(solids[i], 0.001)) solids[i] = *s;
     }
   }
 

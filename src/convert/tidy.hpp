@@ -40,6 +40,7 @@ struct TidyResult {
   long long error_before = 0, error_after = 0;  // wrong samples
   int axes_snapped = 0;
   int values_rounded = 0;  // numbers that became coarser than the finest quantum
+  int angles_rounded = 0;  // solids turned to angles of whole, half or tenth degrees
   bool stopped = false;    // the deadline passed before every number was tried
 };
 

@@ -96,6 +96,7 @@ struct ConvertResult {
   long long tidy_error = 0;     // wrong samples of the tidy stage, after it
   int axes_snapped = 0;         // solids turned onto the world's axes
   int values_rounded = 0;       // numbers rounded coarser than a thousandth of the part
+  int angles_rounded = 0;       // solids turned to whole, half or tenth degrees
   // The roundings would have taken a tree that reaches warn_iou below it: tidied again with a
   // quarter of the tolerances, or not at all.
   bool tidy_finer = false;
