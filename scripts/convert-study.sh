@@ -7,7 +7,7 @@
 # Writes OUTDIR/<shape>/ (every output of convert), OUTDIR/shapes.txt (the meshes' rows below),
 # OUTDIR/table.md (the meshes), OUTDIR/models.md (the OpenSCAD models given as .csg) and
 # OUTDIR/pictures.md (glyphs). STUDY_SETS="meshes models pictures" (the default) chooses which
-# to convert.
+# to convert and tabulate.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/data-dir.sh
@@ -85,6 +85,7 @@ for line in sys.stdin:
     print("| %s | %s | %d (%s) | %.4f | %s | %s | %.1f |" % row)
 ' "$out"
 }
-printf '%s\n' "${shapes[@]}" | table | tee "$out/table.md"
-printf '%s\n' "${models[@]}" | table | tee "$out/models.md"
-printf '%s\n' "${pictures[@]}" | table | tee "$out/pictures.md"
+[[ $sets == *meshes* ]] && printf '%s\n' "${shapes[@]}" | table | tee "$out/table.md"
+[[ $sets == *models* ]] && printf '%s\n' "${models[@]}" | table | tee "$out/models.md"
+[[ $sets == *pictures* ]] && printf '%s\n' "${pictures[@]}" | table | tee "$out/pictures.md"
+exit 0

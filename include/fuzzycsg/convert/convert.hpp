@@ -20,8 +20,9 @@
 //            annealed towards crisp, unified operators leaning towards the chosen booleans,
 //            Adam on the squared error at points near the surface; then each solid, crisp, takes
 //            its refined placement and size where that gets fewer cells wrong;
-//   tidy     axes within a few degrees of the world's snapped to them, and lengths and
-//            coordinates rounded in the mesh's units as coarsely as the grid's error allows
+//   tidy     axes within a few degrees of the world's snapped to them, other angles turned to
+//            whole, half or tenth degrees, and lengths and coordinates rounded in the mesh's
+//            units as coarsely as the grid's error allows
 //            (never taking a result that reaches warn_iou below it: then rounded more finely,
 //            or not at all);
 //   measure  IoU, Chamfer and Hausdorff distances against the target.
