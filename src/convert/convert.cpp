@@ -76,6 +76,8 @@ struct LoadedInput {
 // A mesh file (checked closed and manifold) as itself; an OpenSCAD `.csg` model as its tree,
 // the true solid, and a mesh of that tree to detect surfaces on.
 LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
+  static constexpr const char* kTakes =
+      ": convert takes a 3D mesh (OBJ, STL, PLY, OFF), an OpenSCAD .csg or a picture";
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   TargetOptions target_options;
@@ -90,8 +92,7 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
     return in;
   }
   if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
-    throw InputError(
-        path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF), an OpenSCAD .csg or a picture");
+    throw InputError(path + kTakes);
   }
   // A surface that bounds no solid would give an inside test that depends on the ray's
   // direction; refuse it with its defect named rather than convert noise.
@@ -101,8 +102,7 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   }
   in.target = load_target(path, target_options);
   if (in.target->kind() != "mesh" || in.target->dim() != 3) {
-    throw InputError(
-        path + ": convert takes a 3D mesh (OBJ, STL, PLY, OFF), an OpenSCAD .csg or a picture");
+    throw InputError(path + kTakes);
   }
   return in;
 }

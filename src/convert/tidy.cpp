@@ -21,6 +21,20 @@ std::optional<std::pair<int, double>> near_axis(const Eigen::Vector3d& v, double
   return std::pair{axis, v[axis] < 0 ? -1.0 : 1.0};
 }
 
+// The solid with the given rotation; a prism's polygon keeps its place in the world (its
+// vertices in the new frame, their height dropped).
+Solid turned(const Solid& s, const Eigen::Matrix3d& rotation) {
+  Solid out = s;
+  out.rotation = rotation;
+  if (s.kind == SolidKind::kPrism) {
+    const Eigen::Matrix3d turn = rotation.transpose() * s.rotation;
+    for (Eigen::Vector2d& v : out.polygon) {
+      v = (turn * Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
+    }
+  }
+  return out;
+}
+
 // The solid with its axes on the world's, or nullopt when they are not within `max_deg`.
 std::optional<Solid> axis_snapped(const Solid& s, double max_deg) {
   Solid out = s;
@@ -50,17 +64,11 @@ std::optional<Solid> axis_snapped(const Solid& s, double max_deg) {
       break;
     }
     case SolidKind::kPrism: {
-      // The polygon keeps its place: its vertices in the new frame, their height dropped.
       const auto a = near_axis(s.rotation.col(2), max_deg);
       if (!a) return std::nullopt;
       const Eigen::Vector3d axis = a->second * Eigen::Vector3d::Unit(a->first);
       if ((s.rotation.col(2) - axis).norm() < 1e-12) return std::nullopt;
-      out.rotation = rotation_with_z(axis);
-      const Eigen::Matrix3d turn = out.rotation.transpose() * s.rotation;
-      for (Eigen::Vector2d& v : out.polygon) {
-        v = (turn * Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
-      }
-      return out;
+      return turned(s, rotation_with_z(axis));
     }
     case SolidKind::kSphere:
       return std::nullopt;
@@ -113,7 +121,6 @@ std::vector<std::pair<double*, bool>> numbers_of(Solid& s) {
 // sphere, a solid on the world's axes, or angles already on the quantum.
 std::optional<Solid> angles_rounded(const Solid& s, double quantum) {
   const auto round = [&](double a) { return std::round(a / quantum) * quantum; };
-  Solid out = s;
   if (s.kind == SolidKind::kSphere) return std::nullopt;
   if (s.kind == SolidKind::kHalfSpace) {
     const Eigen::Vector3d n = s.normal();
@@ -122,20 +129,12 @@ std::optional<Solid> angles_rounded(const Solid& s, double quantum) {
     const double ry = round(ay) / kDegreesPerRadian, rz = round(az) / kDegreesPerRadian;
     const Eigen::Vector3d m(std::sin(ry) * std::cos(rz), std::sin(ry) * std::sin(rz), std::cos(ry));
     if ((m - n).norm() < 1e-12) return std::nullopt;
-    out.rotation = rotation_with_z(m);
-    return out;
+    return turned(s, rotation_with_z(m));
   }
   const Eigen::Vector3d e = euler_xyz_degrees(s.rotation);
   const Eigen::Vector3d r(round(e[0]), round(e[1]), round(e[2]));
   if ((r - e).cwiseAbs().maxCoeff() < 1e-9) return std::nullopt;
-  out.rotation = rotation_from_euler_degrees(r);
-  if (s.kind == SolidKind::kPrism) {
-    // The polygon keeps its place in the world, as axis_snapped does.
-    const Eigen::Matrix3d turn = out.rotation.transpose() * s.rotation;
-    for (Eigen::Vector2d& v : out.polygon)
-      v = (turn * Eigen::Vector3d(v.x(), v.y(), 0.0)).head<2>();
-  }
-  return out;
+  return turned(s, rotation_from_euler_degrees(r));
 }
 
 class Tidier {
