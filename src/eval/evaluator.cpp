@@ -25,7 +25,8 @@ Scratch::Scratch(std::size_t tape_size, std::size_t stack_depth, std::size_t max
       points(hwy::AllocateAligned<float>(3 * kBlock)),
       monomials(hwy::AllocateAligned<float>(9 * kBlock)),
       dtheta(hwy::AllocateAligned<float>(std::max<std::size_t>(max_theta, 1))),
-      residual(hwy::AllocateAligned<float>(2 * kBlock)) {}
+      residual(hwy::AllocateAligned<float>(2 * kBlock)),
+      point_grad(hwy::AllocateAligned<float>(3 * kBlock)) {}
 
 }  // namespace kernel
 
@@ -124,8 +125,19 @@ struct Evaluator::Impl {
   // The loss's targets, weights and scale into `a`, checked.
   void set_loss(kernel::Args& a, const Loss& loss, std::size_t n, const char* fn) const {
     a.loss_kind = loss.kind;
-    if (loss.kind != Loss::Kind::kMse) return;
     const std::string where = std::string("Evaluator::") + fn + ": ";
+    if (loss.kind == Loss::Kind::kSum) {
+      if (loss.weights.empty()) return;
+      if (loss.weights.size() != n) {
+        bad_argument(where + "weights has " + std::to_string(loss.weights.size()) +
+                     " entries, expected " + std::to_string(n) + " (one per point)");
+      }
+      for (float w : loss.weights) {
+        if (!std::isfinite(w)) bad_argument(where + "weights must be finite");
+      }
+      a.weights = loss.weights.data();
+      return;
+    }
     if (loss.targets.size() != n) {
       bad_argument(where + "targets has " + std::to_string(loss.targets.size()) +
                    " entries, expected " + std::to_string(n) + " (one per point)");
@@ -197,8 +209,8 @@ void Evaluator::forward(std::span<const double> params, std::span<const float> p
 }
 
 double Evaluator::backward(std::span<const double> params, std::span<const float> points,
-                           const Loss& loss, std::span<double> grad,
-                           std::span<float> occupancy) const {
+                           const Loss& loss, std::span<double> grad, std::span<float> occupancy,
+                           std::span<float> point_grad) const {
   const Impl& im = *impl_;
   const std::size_t n = im.point_count(points, "backward");
   if (grad.size() != im.program.num_params()) {
@@ -209,10 +221,24 @@ double Evaluator::backward(std::span<const double> params, std::span<const float
     bad_argument("Evaluator::backward: occupancy has " + std::to_string(occupancy.size()) +
                  " entries, expected " + std::to_string(n));
   }
+  if (!point_grad.empty()) {
+    if (point_grad.size() != points.size()) {
+      bad_argument("Evaluator::backward: point_grad has " + std::to_string(point_grad.size()) +
+                   " entries, expected " + std::to_string(points.size()) + " (as points)");
+    }
+    for (const Instruction& ins : im.program.tape()) {
+      if (ins.code == OpCode::kSplineTerm) {
+        bad_argument(
+            "Evaluator::backward: the gradient by the points is not computed through "
+            "spline nodes");
+      }
+    }
+  }
   std::fill(grad.begin(), grad.end(), 0.0);
   const auto consts = im.constants(params);
   kernel::Args a = im.args(consts, points);
   a.occupancy = occupancy.empty() ? nullptr : occupancy.data();
+  a.point_grad = point_grad.empty() ? nullptr : point_grad.data();
   im.set_loss(a, loss, n, "backward");
   if (n == 0) return 0.0;
 

@@ -91,9 +91,32 @@ void quadric_forward(const float* c, const float* mono, float* out) {
   }
 }
 
+// d f / d p of a quadric from the block's monomials (rows 6, 7, 8 are x, y, z), added times gf
+// into the block's point gradient pg (dim rows).
+template <bool kPlanar>
+HWY_INLINE void quadric_point_grad(const QuadricCoefficients& k, const float* mono, std::size_t i,
+                                   V gf, float* pg) {
+  const D d;
+  const V two = hn::Set(d, 2.0f);
+  const V x = hn::Load(d, mono + 6 * kBlock + i), y = hn::Load(d, mono + 7 * kBlock + i);
+  V fx = hn::MulAdd(hn::Mul(two, k.q[0]), x, hn::MulAdd(k.q[3], y, k.q[6]));
+  V fy = hn::MulAdd(hn::Mul(two, k.q[1]), y, hn::MulAdd(k.q[3], x, k.q[7]));
+  if constexpr (!kPlanar) {
+    const V z = hn::Load(d, mono + 8 * kBlock + i);
+    fx = hn::MulAdd(k.q[5], z, fx);
+    fy = hn::MulAdd(k.q[4], z, fy);
+    const V fz =
+        hn::MulAdd(hn::Mul(two, k.q[2]), z, hn::MulAdd(k.q[4], y, hn::MulAdd(k.q[5], x, k.q[8])));
+    hn::Store(hn::MulAdd(gf, fz, hn::Load(d, pg + 2 * kBlock + i)), d, pg + 2 * kBlock + i);
+  }
+  hn::Store(hn::MulAdd(gf, fx, hn::Load(d, pg + i)), d, pg + i);
+  hn::Store(hn::MulAdd(gf, fy, hn::Load(d, pg + kBlock + i)), d, pg + kBlock + i);
+}
+
+// pg (dim x kBlock, or null): the block's gradient by the points, added to.
 template <bool kPlanar>
 void quadric_backward(const float* c, const float* mono, const float* o_in, const float* adj,
-                      double* grad) {
+                      double* grad, float* pg) {
   const D d;
   const QuadricCoefficients k(c);
   const V one = hn::Set(d, 1.0f);
@@ -113,6 +136,7 @@ void quadric_backward(const float* c, const float* mono, const float* o_in, cons
                           acc[m]);
     }
     acc_const = hn::Add(acc_const, gf);
+    if (pg != nullptr) quadric_point_grad<kPlanar>(k, mono, i, gf, pg);
   }
   for (std::size_t m = 0; m < rows.size(); ++m) grad[rows[m]] += sum_lanes(acc[m]);
   grad[9] += sum_lanes(acc_const);
@@ -147,7 +171,7 @@ void ball_forward(const float* c, const float* pts, float* out) {
 // dL/dt = -sum gf (p - t) / |p - t| (0 at the centre).
 template <int kDim>
 void ball_backward(const float* c, const float* pts, const float* o_in, const float* adj,
-                   double* grad) {
+                   double* grad, float* pg) {
   const D d;
   const V one = hn::Set(d, 1.0f);
   const V r = hn::Set(d, c[0]), s = hn::Set(d, c[1 + kDim]);
@@ -166,6 +190,12 @@ void ball_backward(const float* c, const float* pts, const float* o_in, const fl
     const V inv = hn::IfThenElseZero(hn::Gt(len, hn::Zero(d)), hn::Div(one, len));
     const V gfi = hn::Mul(gf, inv);
     for (int j = 0; j < kDim; ++j) acc_t[j] = hn::NegMulAdd(gfi, q[j], acc_t[j]);
+    if (pg != nullptr) {
+      for (std::size_t j = 0; j < kDim; ++j) {
+        float* row = pg + j * kBlock + i;
+        hn::Store(hn::MulAdd(gfi, q[j], hn::Load(d, row)), d, row);
+      }
+    }
   }
   grad[0] += sum_lanes(acc_r);
   for (int j = 0; j < kDim; ++j) grad[1 + j] += sum_lanes(acc_t[j]);
@@ -291,8 +321,10 @@ void leaf_forward(const Instruction& ins, const PrimitiveShape& shape, const flo
   }
 }
 
+// pg (dim x kBlock, or null): the block's gradient by the points, added to. The world gradient
+// of s f_local(R^T (p - t) / s) is R dp, the negative of the translation's.
 void leaf_backward(const Instruction& ins, const PrimitiveShape& shape, const float* c, int dim,
-                   const float* pts, const float* adj, double* grad, float* dtheta) {
+                   const float* pts, const float* adj, double* grad, float* dtheta, float* pg) {
   const std::span<const float> theta(c, static_cast<std::size_t>(ins.num_theta));
   const float s = ins.has_scale ? c[ins.scale_at] : 1.0f;
   for (std::size_t i = 0; i < kBlock; ++i) {
@@ -327,6 +359,16 @@ void leaf_backward(const Instruction& ins, const PrimitiveShape& shape, const fl
       }
     } else if (ins.has_translate) {
       for (int a = 0; a < dim; ++a) grad[ins.translate_at + a] -= gf * dp[a];
+    }
+    if (pg != nullptr) {
+      for (int a = 0; a < dim; ++a) {
+        float rd = dp[a];
+        if (ins.has_rotate) {
+          rd = 0.0f;
+          for (int b = 0; b < dim; ++b) rd += c[ins.rotate_at + a * dim + b] * dp[b];
+        }
+        pg[a * kBlock + i] += gf * rd;
+      }
     }
   }
 }
@@ -532,8 +574,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
         we[i] = w * r;
         wt[i] = w;
       } else if (a.loss_kind == Loss::Kind::kSum) {
-        loss_sum += root[i];
-        seed[i] = 1.0f;
+        const float w = a.weights != nullptr ? a.weights[idx] : 1.0f;
+        loss_sum += static_cast<double>(w) * root[i];
+        seed[i] = w;
       } else {
         const float w = a.weights != nullptr ? a.weights[idx] : 1.0f;
         const float r = root[i] - a.targets[idx];
@@ -541,6 +584,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
         seed[i] = static_cast<float>(2.0 * w * r * a.loss_scale);
       }
     }
+
+    float* pg = a.point_grad != nullptr ? s.point_grad.get() : nullptr;
+    if (pg != nullptr) std::fill(pg, pg + static_cast<std::size_t>(dim) * kBlock, 0.0f);
 
     // Reverse sweep with a stack of adjoint blocks: an instruction pops its adjoint and pushes
     // one per input (left first, so the right subtree, which comes next, finds its own on top).
@@ -555,9 +601,9 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
           if (edits) {
             // nothing to learn about leaves in edit mode
           } else if (dim == 2) {
-            quadric_backward<true>(c, mono, values + k * kBlock, g, gc);
+            quadric_backward<true>(c, mono, values + k * kBlock, g, gc, pg);
           } else {
-            quadric_backward<false>(c, mono, values + k * kBlock, g, gc);
+            quadric_backward<false>(c, mono, values + k * kBlock, g, gc, pg);
           }
           --top;
           break;
@@ -566,12 +612,12 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
             // nothing to learn about leaves in edit mode
           } else if (ins.ball) {
             if (dim == 2) {
-              ball_backward<2>(c, pts, values + k * kBlock, g, gc);
+              ball_backward<2>(c, pts, values + k * kBlock, g, gc, pg);
             } else {
-              ball_backward<3>(c, pts, values + k * kBlock, g, gc);
+              ball_backward<3>(c, pts, values + k * kBlock, g, gc, pg);
             }
           } else {
-            leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get());
+            leaf_backward(ins, *a.shapes[k], c, dim, pts, g, gc, s.dtheta.get(), pg);
           }
           --top;
           break;
@@ -601,6 +647,11 @@ void run_chunk(const Args& a, std::size_t begin, std::size_t end, Scratch& s, do
             spline_backward(ins, c, dim, pts, g, g);  // the first term: y's adjoint replaces g
           }
           break;
+      }
+    }
+    if (pg != nullptr) {
+      for (std::size_t i = 0; i < count; ++i) {
+        for (int j = 0; j < dim; ++j) a.point_grad[(b0 + i) * dim + j] = pg[j * kBlock + i];
       }
     }
   }

@@ -27,7 +27,8 @@ struct Args {
   Loss::Kind loss_kind = Loss::Kind::kSum;
   const float* targets = nullptr;
   const float* weights = nullptr;
-  double loss_scale = 1.0;  // 1 / sum of weights for kMse
+  double loss_scale = 1.0;      // 1 / sum of weights for kMse
+  float* point_grad = nullptr;  // optional output, N x dim: d loss / d point
 
   // Edit mode (edit_first non-null; kMse only): instead of the gradient, the change of the
   // loss sum if one bilinear instruction's constants (a, b, d) changed by an edit's deltas,
@@ -42,12 +43,13 @@ struct Args {
 
 // Per-thread scratch memory, allocated once per evaluator and thread.
 struct Scratch {
-  hwy::AlignedFreeUniquePtr<float[]> values;     // tape size x kBlock
-  hwy::AlignedFreeUniquePtr<float[]> stack;      // (max stack depth + 1) x kBlock
-  hwy::AlignedFreeUniquePtr<float[]> points;     // 3 x kBlock
-  hwy::AlignedFreeUniquePtr<float[]> monomials;  // 9 x kBlock
-  hwy::AlignedFreeUniquePtr<float[]> dtheta;     // largest intrinsic parameter count
-  hwy::AlignedFreeUniquePtr<float[]> residual;   // edit mode: w e, then w, per point (2 x kBlock)
+  hwy::AlignedFreeUniquePtr<float[]> values;      // tape size x kBlock
+  hwy::AlignedFreeUniquePtr<float[]> stack;       // (max stack depth + 1) x kBlock
+  hwy::AlignedFreeUniquePtr<float[]> points;      // 3 x kBlock
+  hwy::AlignedFreeUniquePtr<float[]> monomials;   // 9 x kBlock
+  hwy::AlignedFreeUniquePtr<float[]> dtheta;      // largest intrinsic parameter count
+  hwy::AlignedFreeUniquePtr<float[]> residual;    // edit mode: w e, then w, per point (2 x kBlock)
+  hwy::AlignedFreeUniquePtr<float[]> point_grad;  // d loss / d point of the block (3 x kBlock)
 
   Scratch(std::size_t tape_size, std::size_t stack_depth, std::size_t max_theta);
 };

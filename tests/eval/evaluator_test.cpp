@@ -89,6 +89,80 @@ void check_tree(const Tree& tree, std::size_t n, std::uint64_t seed, std::size_t
   }
 }
 
+// The vector-Jacobian product: kSum with signed weights w gives d(sum_i w_i o_i)/dparams and,
+// per point, w_i do_i/dp_i, both against central differences of the reference.
+void check_vjp(const Tree& tree, std::size_t n, std::uint64_t seed) {
+  const Evaluator ev(tree, EvalOptions{2});
+  const auto params = tree.params.values();
+  const auto points = random_points(n, tree.dim, seed);
+  std::vector<float> w(n);
+  std::mt19937_64 rng(seed + 3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (float& x : w) x = u(rng);
+  const auto weighted = [&](std::span<const double> q) {
+    const auto v = reference_values(tree, q, points);
+    double s = 0.0;
+    for (std::size_t i = 0; i < n; ++i) s += w[i] * v[i];
+    return s;
+  };
+  std::vector<double> grad(params.size());
+  std::vector<float> occ(n), pgrad(points.size());
+  const double loss = ev.backward(params, points, Loss{Loss::Kind::kSum, {}, w}, grad, occ, pgrad);
+  EXPECT_NEAR(loss, weighted(params), 1e-4 * static_cast<double>(n));
+  double scale = 0.0;
+  for (double g : grad) scale = std::max(scale, std::abs(g));
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    if (tree.params.at(k).fixed) continue;
+    const double h = 1e-6 * std::max(1.0, std::abs(params[k]));
+    auto plus = params, minus = params;
+    plus[k] += h;
+    minus[k] -= h;
+    EXPECT_NEAR(grad[k], (weighted(plus) - weighted(minus)) / (2 * h), 2e-3 * std::max(1.0, scale))
+        << tree.params.at(k).name;
+  }
+  const auto dim = static_cast<std::size_t>(tree.dim);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < dim; ++j) {
+      double p[3] = {0, 0, 0}, m[3] = {0, 0, 0};
+      for (std::size_t a = 0; a < dim; ++a) p[a] = m[a] = points[i * dim + a];
+      const double h = 1e-6;
+      p[j] += h;
+      m[j] -= h;
+      const double fd =
+          w[i] * (reference_occupancy(tree, params, p) - reference_occupancy(tree, params, m)) /
+          (2 * h);
+      ASSERT_NEAR(pgrad[i * dim + j], fd, 2e-3 * std::max(1.0, std::abs(fd)))
+          << "point " << i << " axis " << j;
+    }
+  }
+}
+
+TEST(Evaluator, VectorJacobianProductByParametersAndPoints) {
+  FullTreeOptions o;
+  o.leaves = 8;
+  o.seed = 5;
+  o.temperature = 3.0;
+  check_vjp(make_full_binary_tree(o), 150, 31);  // quadrics: the vector path
+  o.dim = 2;
+  o.family = PrimitiveType::kQuadric2;
+  check_vjp(make_full_binary_tree(o), 150, 32);
+  for (int dim : {2, 3}) {
+    for (PrimitiveType t : {PrimitiveType::kSphere, PrimitiveType::kBox, PrimitiveType::kTorus,
+                            PrimitiveType::kCircle, PrimitiveType::kRectangle}) {
+      if (primitive_info(t).dim != dim) continue;
+      FullTreeOptions b;
+      b.dim = dim;
+      b.leaves = 4;
+      b.family = t;
+      b.seed = 40 + static_cast<int>(t);
+      b.sharpness = 6.0;
+      b.temperature = 2.0;
+      SCOPED_TRACE(std::string(primitive_info(t).name));
+      check_vjp(make_full_binary_tree(b), 100, 33);
+    }
+  }
+}
+
 TEST(Evaluator, QuadricUnifiedTreeMatchesReference) {
   for (int leaves : {1, 2, 8, 32}) {
     FullTreeOptions o;

@@ -31,12 +31,12 @@ struct EvalOptions {
 // What backward() differentiates.
 struct Loss {
   enum class Kind {
-    kSum,  // sum_i o_i
+    kSum,  // sum_i w_i o_i   (w_i = 1 when no weights; any finite w_i: a vector-Jacobian product)
     kMse,  // sum_i w_i (o_i - t_i)^2 / sum_i w_i   (w_i = 1 when no weights)
   };
   Kind kind = Kind::kSum;
   std::span<const float> targets;  // kMse: one per point
-  std::span<const float> weights;  // kMse, optional: one per point
+  std::span<const float> weights;  // optional: one per point (kMse: >= 0)
 };
 
 // A change of one bilinear operator's constants: the operator z = a x + b y + d x y of tree
@@ -65,9 +65,12 @@ class Evaluator {
                std::span<float> out) const;
 
   // Loss value, and grad (size num_params()) = dLoss/dparams. Fixed parameters get 0.
-  // When `occupancy` is non-empty it receives the forward values too.
+  // When `occupancy` is non-empty it receives the forward values too. When `point_grad` is
+  // non-empty (as many entries as `points`) it receives dLoss/dpoints, row-major N x dim (not for
+  // trees with spline nodes: InputError).
   double backward(std::span<const double> params, std::span<const float> points, const Loss& loss,
-                  std::span<double> grad, std::span<float> occupancy = {}) const;
+                  std::span<double> grad, std::span<float> occupancy = {},
+                  std::span<float> point_grad = {}) const;
 
   // The loss (kMse only) at the points, and in `changes` (one per edit) how much it would
   // change if that edit alone were made, everything else as in `params`. One forward sweep and
