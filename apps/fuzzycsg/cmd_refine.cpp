@@ -25,6 +25,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/diffcsg/openscad_csg.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
+#include "fuzzycsg/diffcsg/refine_target.hpp"
 #include "fuzzycsg/diffcsg/report.hpp"
 #include "fuzzycsg/diffcsg/targets.hpp"
 #include "fuzzycsg/io/files.hpp"
@@ -45,87 +46,11 @@ struct RefineArgs {
   bool no_intersection_aa = false, quiet = false, size_given = false, shared_only = false;
 };
 
-// A model: a tree file, or an OpenSCAD .csg read as one (with OpenSCAD's tessellation).
-diffcsg::OpenscadModel read_model(const std::string& path, const diffcsg::TessellationOptions& t) {
-  if (has_extension(path, {".csg"})) return diffcsg::read_openscad_csg_tree(path);
-  return {io::read_tree_file(path), t};
-}
-
 // The ranges of the numeric options.
 void check_ranges(const RefineArgs& a) {
-  if (a.views < 1 || a.views > 64) throw InputError("--views: must be in [1, 64]");
-  if (a.size < 8 || a.size > 4096) throw InputError("--size: must be in [8, 4096]");
   if (a.iters < 0) throw InputError("--iters: must not be negative");
   if (!(a.lr > 0)) throw InputError("--lr: must be > 0");
   if (!(a.stop >= 0)) throw InputError("--stop: must not be negative");
-  if (a.random_views < 0) throw InputError("--random-views: must not be negative");
-  if (!(a.fov > 0 && a.fov < 180)) throw InputError("--fov: must be in (0, 180) degrees");
-}
-
-// The target: a views file, a mesh, or a model drawn from --views cameras about it; `kind` says
-// which ("views", "mesh", "model").
-diffcsg::RefineTarget read_target(const RefineArgs& a, diffcsg::Shading shading,
-                                  const diffcsg::TessellationOptions& tess,
-                                  const diffcsg::Scene& model_scene, std::string& kind) {
-  diffcsg::RefineTarget target;
-  target.shading = shading;
-  std::shared_ptr<const diffcsg::PreparedScene> target_scene;
-  if (has_extension(a.target, {".json"}) && diffcsg::is_views_file(a.target)) {
-    kind = "views";
-    diffcsg::ViewSet set = diffcsg::read_views(a.target);
-    if (set.shading != shading) {
-      throw InputError(fmt::format("{}: its images are {}, --shading {}", a.target,
-                                   diffcsg::shading_name(set.shading), a.shading));
-    }
-    if (a.random_views > 0) {
-      throw InputError("--random-views: the target's images cannot be drawn from other views");
-    }
-    if (a.size_given) {
-      for (std::size_t v = 0; v < set.images.size(); ++v) {
-        if (set.images[v].width != a.size || set.images[v].height != a.size) {
-          throw InputError(fmt::format("{}: view {}'s image is {}x{}, --size {}", a.target, v,
-                                       set.images[v].width, set.images[v].height, a.size));
-        }
-      }
-    }
-    target.cameras = std::move(set.cameras);
-    target.images = std::move(set.images);
-  } else {
-    diffcsg::Scene scene;
-    if (has_extension(a.target, {".obj", ".stl", ".ply", ".off"})) {
-      kind = "mesh";
-      if (shading == diffcsg::Shading::kColours) {
-        throw InputError("--shading colours: a mesh has no primitives to colour; use normals");
-      }
-      scene = diffcsg::read_mesh_scene(a.target);
-    } else {
-      kind = "model";
-      const diffcsg::OpenscadModel m = read_model(a.target, tess);
-      scene = diffcsg::scene_from_tree(m.tree, a.target, m.tessellation);
-      if (shading == diffcsg::Shading::kColours &&
-          scene.primitives.size() != model_scene.primitives.size()) {
-        throw InputError(fmt::format(
-            "{}: {} primitives, the model {}: colour images need the same program (primitive k "
-            "for primitive k)",
-            a.target, scene.primitives.size(), model_scene.primitives.size()));
-      }
-    }
-    target_scene = std::make_shared<const diffcsg::PreparedScene>(
-        diffcsg::prepare_scene(std::move(scene), !a.no_intersection_aa));
-    const auto [lo, hi] = target_scene->scene.bounds();
-    const diffcsg::Vec3 centre{(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-    const double distance =
-        a.distance > 0 ? a.distance
-                       : diffcsg::framing_distance(target_scene->scene, centre, a.fov, 1.2);
-    target.cameras =
-        diffcsg::orbit_views(centre, distance, a.views, a.elevation, a.size, a.size, a.fov);
-    const int threads = a.threads;
-    target.render = [target_scene, shading, threads](const diffcsg::Camera& c) {
-      return diffcsg::render_image(*target_scene, c, shading, threads);
-    };
-    for (const diffcsg::Camera& c : target.cameras) target.images.push_back(target.render(c));
-  }
-  return target;
 }
 
 // The refinement's options (with a progress line every twentieth of --iters unless --quiet).
@@ -175,7 +100,7 @@ int run_refine(const RefineArgs& a) {
   diffcsg::TessellationOptions tess;
   tess.sphere_subdivisions = a.sphere_subdivisions;
   tess.cylinder_segments = a.cylinder_segments;
-  diffcsg::OpenscadModel model = read_model(a.model, tess);
+  diffcsg::OpenscadModel model = diffcsg::read_refine_model(a.model, tess);
   // --shared-only: the program's hyper-parameters alone move (DiffCSG's H-Params).
   std::vector<bool> was_fixed;
   for (std::size_t k = 0; k < model.tree.params.size(); ++k) {
@@ -192,8 +117,21 @@ int run_refine(const RefineArgs& a) {
   const diffcsg::Scene model_scene =
       diffcsg::scene_from_tree(model.tree, a.model, model.tessellation);
 
-  std::string target_kind;
-  const diffcsg::RefineTarget target = read_target(a, *shading, tess, model_scene, target_kind);
+  diffcsg::TargetViewOptions view_options;
+  view_options.shading = *shading;
+  view_options.views = a.views;
+  view_options.size = a.size;
+  view_options.size_given = a.size_given;
+  view_options.elevation = a.elevation;
+  view_options.distance = a.distance;
+  view_options.fov = a.fov;
+  view_options.random_views = a.random_views;
+  view_options.intersection_aa = !a.no_intersection_aa;
+  view_options.threads = a.threads;
+  const diffcsg::LoadedTarget loaded =
+      diffcsg::load_refine_target(a.target, view_options, tess, model_scene);
+  const diffcsg::RefineTarget& target = loaded.target;
+  const std::string& target_kind = loaded.kind;
   // Cameras that see nothing of the model are bad input, found before anything is written.
   int seen = 0;
   for (const diffcsg::Camera& c : target.cameras) {

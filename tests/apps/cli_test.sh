@@ -648,7 +648,7 @@ assert r["target_kind"] == "views" and r["settings"]["size"] == [48, 48], r["set
 assert r["loss"][-1] < r["loss"][0], r["loss"][:3]
 PY
 then ok; else bad "refine to a views file"; fi
-expect_error "views.json: view 0's image is 48x48, --size 64" "$bin" refine "$tmp/prog.json" \
+expect_error "--size: .*views.json: view 0's image is 48x48, not 64" "$bin" refine "$tmp/prog.json" \
   --target "$tmp/views.json" -o "$tmp/ref7" --size 64
 expect_error "--random-views" "$bin" refine "$tmp/prog.json" --target "$tmp/views.json" \
   -o "$tmp/ref8" --random-views 5

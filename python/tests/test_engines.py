@@ -1,0 +1,116 @@
+"""The engines from Python: options as keyword arguments, results as objects, the same results
+and the same error messages as the program."""
+
+import json
+
+import numpy as np
+import pytest
+
+import fuzzycsg
+
+DISC = """{"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+  "root": {"type": "circle", "radius": 0.5, "translate": [0.1, 0.0]}}"""
+
+PROGRAM = """{"format": "fuzzycsg-tree", "version": 1, "dim": 3, "root": {"op": "difference",
+  "children": [{"type": "box", "size": [1.2, 1, 0.8], "rotate": [0, 0, 10]},
+  {"type": "cylinder", "radius": 0.25, "height": 1.2, "translate": [0.1, 0.05, 0],
+   "rotate": [20, 0, 0]}]}}"""
+
+
+def test_fit_to_a_tree_and_its_options():
+    disc = fuzzycsg.Tree.from_json(DISC)
+    r = fuzzycsg.fit(disc, prims=4, iters=300, batch=512, seed=1, threads=2, lr=0.02,
+                     metrics={"points": 20000, "chamfer": False}, sampling={"surface": 0.5})
+    assert isinstance(r.pruned, fuzzycsg.Tree) and r.pruned.dim == 2
+    assert r.stop == "iterations" and r.steps == 300
+    assert r.loss_curve.shape[1] == 3 and r.loss_curve[-1, 1] < r.loss_curve[0, 1]
+    assert r.metrics_pruned["iou"] > 0.8, r.metrics_pruned
+    # The same fit twice is the same fit.
+    again = fuzzycsg.fit(disc, prims=4, iters=300, batch=512, seed=1, threads=2, lr=0.02,
+                         metrics={"points": 20000, "chamfer": False}, sampling={"surface": 0.5})
+    np.testing.assert_array_equal(again.trained.values, r.trained.values)
+    with pytest.raises(TypeError, match="unexpected option 'primz'"):
+        fuzzycsg.fit(disc, primz=4)
+    with pytest.raises(TypeError, match="sampling.nearby"):
+        fuzzycsg.fit(disc, sampling={"nearby": 0.1})
+    with pytest.raises(fuzzycsg.OptionError, match="^prims: must be a power of two"):
+        fuzzycsg.fit(disc, prims=6)
+    with pytest.raises(fuzzycsg.OptionError, match="^ops: unknown value 'fuzzy'"):
+        fuzzycsg.fit(disc, ops="fuzzy")
+    assert fuzzycsg.options(fuzzycsg.FitOptions)["prims"] == 64
+
+
+def test_prune_mesh_and_export():
+    tree = fuzzycsg.Tree.from_json(PROGRAM)
+    pruned, report = fuzzycsg.prune(tree, threshold=1e-3, threads=2)
+    assert report["primitives_before"] == 2 and report["primitives_after"] == 2
+    vertices, triangles = fuzzycsg.mesh(tree, resolution=32, threads=2)
+    assert vertices.shape[1] == 3 and triangles.shape[1] == 3 and len(triangles) > 100
+    assert triangles.max() < len(vertices) and triangles.dtype == np.int32
+    # The vertices lie on the 0.5 level set (to the linear interpolation across a cell).
+    off = np.abs(fuzzycsg.eval(tree, vertices) - 0.5)
+    assert np.median(off) < 0.01 and off.max() < 0.3, (np.median(off), off.max())
+    scad = fuzzycsg.export(tree)
+    assert "difference()" in scad and "cube(" in scad and "cylinder(" in scad
+    report = fuzzycsg.export_report(tree)
+    assert report["leaves"] == 2
+    loops = fuzzycsg.mesh(fuzzycsg.Tree.from_json(DISC), resolution=64)
+    assert len(loops) == 1 and loops[0].shape[1] == 2
+    r = np.linalg.norm(loops[0] - np.array([0.1, 0.0]), axis=1)
+    assert abs(r.mean() - 0.5) < 0.02
+
+
+def test_mesh_written_to_a_file(tmp_path):
+    tree = fuzzycsg.Tree.from_json(PROGRAM)
+    path = tmp_path / "m.obj"
+    fuzzycsg.mesh(tree, path, resolution=24)
+    assert path.read_text().count("\nf ") > 100
+    with pytest.raises(fuzzycsg.InputError, match="m.xyz"):
+        fuzzycsg.mesh(tree, tmp_path / "m.xyz", resolution=24)
+
+
+def test_convert_as_the_program_does(source):
+    csg = source / "tests" / "data" / "scad" / "Old" / "example004.openscad.csg"
+    r = fuzzycsg.convert(csg, threads=2, time_limit=60)
+    assert r.primitives == 2 and r.metrics["iou"] > 0.99 and r.reached
+    assert "difference()" in r.scad and "written by fuzzycsg convert" in r.scad
+    assert r.report["primitives"] == 2
+    assert fuzzycsg.eval(r.tree, np.zeros((1, 3)))[0] in (0.0, 1.0)  # crisp
+
+
+def test_trace_a_glyph(source):
+    glyph = source / "tests" / "data" / "glyphs" / "DejaVuSans-Bold_U002B_plus.png"
+    r = fuzzycsg.trace(glyph, max_trees=400, population=100, patience=200, seed=2, threads=2)
+    assert r.tree.dim == 2 and r.score["primitives"] >= 1
+    assert r.score["excess"] + r.score["uncovered"] < 0.1 * r.width * r.height
+    refined = fuzzycsg.trace(glyph, max_trees=400, population=100, patience=200, seed=2,
+                             threads=2, refine=True, refine_options={"iterations": 30})
+    assert refined.score["total"] <= refined.search_score["total"]
+
+
+def test_refine_towards_another_program(tmp_path):
+    prog, goal = tmp_path / "prog.json", tmp_path / "goal.json"
+    prog.write_text(PROGRAM)
+    goal.write_text(PROGRAM.replace('"radius": 0.25', '"radius": 0.3')
+                    .replace("[0.1, 0.05, 0]", "[0.18, -0.02, 0]"))
+    r = fuzzycsg.refine(prog, goal, views=2, size=48, iterations=40, lr=0.005, threads=2)
+    assert r.target_kind == "model" and r.loss[-1] < r.loss[0]
+    radius = r.tree.get("root.children[1].radius")[0]
+    assert radius > 0.25
+    with pytest.raises(fuzzycsg.OptionError, match="^views: must be in"):
+        fuzzycsg.refine(prog, goal, views=0)
+
+
+def test_errors_are_the_programs(tmp_path, program_error):
+    broken = tmp_path / "broken.csg"
+    broken.write_text("difference() {\n  cube(size = 2, center = true);\n  sphere(r = -1);\n}\n")
+    with pytest.raises(fuzzycsg.InputError) as e:
+        fuzzycsg.convert(broken)
+    assert str(e.value) == program_error("convert", broken, "-o", tmp_path / "out")
+    blank = tmp_path / "blank.pbm"
+    blank.write_text("P1\n4 4\n" + "0 0 0 0\n" * 4)
+    with pytest.raises(fuzzycsg.InputError) as e:
+        fuzzycsg.fit(blank, iters=1)
+    assert str(e.value) == program_error("fit", blank, "-o", tmp_path / "out2", "--iters", 1)
+    with pytest.raises(TypeError, match="a path expected"):
+        fuzzycsg.convert(42)
