@@ -31,8 +31,10 @@ from ._fuzzycsg import (  # noqa: F401  (the module's public names)
     MeshOptions,
     MetricsOptions,
     OptionError,
+    Camera,
     PruneOptions,
     RefineOptions,
+    RenderOptions,
     SamplingOptions,
     TargetOptions,
     TargetViewOptions,
@@ -150,6 +152,21 @@ def export_report(tree: Tree, **kwargs) -> dict:
     return json.loads(_export(tree, kwargs)[1])
 
 
+def render(tree: Tree, path=None, *, camera: dict | None = None, **kwargs) -> bytes:
+    """A PNG picture of a 3D tree's 0.5 level set (as ``fuzzycsg render``), also written to
+    ``path`` when given. ``camera``: a dict of ``eye``, ``target``, ``up``, ``fov_deg`` (default:
+    cameras framing the shape). Options: the fields of ``RenderOptions``."""
+    if not isinstance(tree, Tree):
+        raise TypeError("render(): tree: a fuzzycsg.Tree expected")
+    options = options_from(RenderOptions, kwargs, "render")
+    if camera is not None:
+        options.camera = options_from(Camera, camera, "render")
+    png = _fuzzycsg._render(tree, options)
+    if path is not None:
+        _write_atomic_bytes(_path(path), png)
+    return png
+
+
 def _export(tree, kwargs):
     if not isinstance(tree, Tree):
         raise TypeError("export(): tree: a fuzzycsg.Tree expected")
@@ -167,10 +184,14 @@ def _path_or_tree(p):
 
 
 def _write_atomic(path: str, text: str) -> None:
+    _write_atomic_bytes(path, text.encode("utf-8"))
+
+
+def _write_atomic_bytes(path: str, data: bytes) -> None:
     tmp = f"{path}.tmp{os.getpid()}"
     try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
+        with open(tmp, "wb") as f:
+            f.write(data)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):

@@ -30,8 +30,7 @@ void check_finite(const CArray<T>& a, const char* what) {
   const T* p = a.data();
   for (py::ssize_t i = 0; i < a.size(); ++i) {
     if (!std::isfinite(p[i])) {
-      throw py::value_error(std::string(what) + ": entry " + std::to_string(i) +
-                            " is not finite");
+      throw py::value_error(std::string(what) + ": entry " + std::to_string(i) + " is not finite");
     }
   }
 }

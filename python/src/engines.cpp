@@ -23,6 +23,7 @@
 #include "fuzzycsg/fit/option_names.hpp"
 #include "fuzzycsg/fit/prune.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
+#include "fuzzycsg/render/render.hpp"
 #include "fuzzycsg/scad/scad.hpp"
 #include "fuzzycsg/target/target.hpp"
 #include "fuzzycsg/trace/trace.hpp"
@@ -93,7 +94,8 @@ std::string path_of(const py::object& p, const char* what) {
   throw py::type_error(std::string(what) + ": a path expected");
 }
 
-void bind_options(py::module_& m) {
+// FitOptions and the structs it holds; TargetOptions.
+void bind_fit_options(py::module_& m) {
   py::class_<SamplingOptions> sampling(m, "SamplingOptions");
   sampling.def(py::init<>())
       .def_readwrite("surface", &SamplingOptions::surface)
@@ -172,7 +174,9 @@ void bind_options(py::module_& m) {
   named_field(fit, "init", &FitOptions::init, kInitModeNames);
   named_field(fit, "lr_schedule", &FitOptions::lr_schedule, kLrScheduleNames);
   named_field(fit, "sharpness_param", &FitOptions::sharpness_param, kSharpnessParamNames);
+}
 
+void bind_convert_and_trace_options(py::module_& m) {
   py::class_<convert::ConvertOptions>(m, "ConvertOptions")
       .def(py::init<>())
       .def_readwrite("max_primitives", &convert::ConvertOptions::max_primitives)
@@ -232,7 +236,10 @@ void bind_options(py::module_& m) {
       .def_readwrite("min_size", &trace::RefineOptions::min_size)
       .def_readwrite("check_every", &trace::RefineOptions::check_every)
       .def_readwrite("time_limit", &trace::RefineOptions::time_limit);
+}
 
+// diffcsg's refinement and the views of its target.
+void bind_refine_options(py::module_& m) {
   py::class_<diffcsg::RefineOptions> refine(m, "RefineOptions");
   refine.def(py::init<>())
       .def_readwrite("cmaes_sigma", &diffcsg::RefineOptions::cmaes_sigma)
@@ -261,7 +268,10 @@ void bind_options(py::module_& m) {
       .def_readwrite("fov", &diffcsg::TargetViewOptions::fov)
       .def_readwrite("threads", &diffcsg::TargetViewOptions::threads);
   named_field(views, "shading", &diffcsg::TargetViewOptions::shading, kShadingNames);
+}
 
+// What turns a tree into files: meshes, pictures, OpenSCAD programs.
+void bind_output_options(py::module_& m) {
   py::class_<MeshOptions>(m, "MeshOptions")
       .def(py::init<>())
       .def_readwrite("resolution", &MeshOptions::resolution)
@@ -270,6 +280,23 @@ void bind_options(py::module_& m) {
       .def_readwrite("simplify", &MeshOptions::simplify)
       .def_readwrite("level", &MeshOptions::level)
       .def_readwrite("threads", &MeshOptions::threads);
+
+  py::class_<Camera>(m, "Camera")
+      .def(py::init<>())
+      .def_readwrite("eye", &Camera::eye)
+      .def_readwrite("target", &Camera::target)
+      .def_readwrite("up", &Camera::up)
+      .def_readwrite("fov_deg", &Camera::fov_deg);
+  py::class_<RenderOptions>(m, "RenderOptions")
+      .def(py::init<>())
+      .def_readwrite("width", &RenderOptions::width)
+      .def_readwrite("height", &RenderOptions::height)
+      .def_readwrite("camera", &RenderOptions::camera)
+      .def_readwrite("views", &RenderOptions::views)
+      .def_readwrite("up", &RenderOptions::up)
+      .def_readwrite("resolution", &RenderOptions::resolution)
+      .def_readwrite("crease_deg", &RenderOptions::crease_deg)
+      .def_readwrite("threads", &RenderOptions::threads);
 
   py::class_<scad::ExportOptions> exp(m, "ExportOptions");
   exp.def(py::init<>())
@@ -300,10 +327,12 @@ py::dict run_fit(const py::object& target, const FitOptions& o, const TargetOpti
   d["stop"] = std::string(stop_reason_name(r.stop));
   d["steps"] = r.state.step;
   std::vector<double> curve;
-  for (const LossPoint& p : r.state.curve) curve.insert(curve.end(), {double(p.step), p.loss, p.seconds});
+  for (const LossPoint& p : r.state.curve)
+    curve.insert(curve.end(), {double(p.step), p.loss, p.seconds});
   const auto rows = static_cast<py::ssize_t>(r.state.curve.size());
   d["loss_curve"] = to_numpy(std::move(curve), {rows, py::ssize_t{3}});
-  d["metrics_trained"] = r.metrics_trained ? py::object(metrics_dict(*r.metrics_trained)) : py::none();
+  d["metrics_trained"] =
+      r.metrics_trained ? py::object(metrics_dict(*r.metrics_trained)) : py::none();
   d["metrics_pruned"] = r.metrics_pruned ? py::object(metrics_dict(*r.metrics_pruned)) : py::none();
   d["primitives_before"] = r.prune.primitives_before;
   d["primitives_after"] = r.prune.primitives_after;
@@ -484,10 +513,23 @@ py::tuple run_export(const Tree& tree, const scad::ExportOptions& o) {
   return py::make_tuple(text, scad::report_json(report));
 }
 
+py::bytes run_render(const Tree& tree, const RenderOptions& o) {
+  if (tree.dim != 3) throw InputError("render: a 3D tree expected (got a 2D one)");
+  std::string png;
+  {
+    py::gil_scoped_release release;
+    png = render_png(tree, tree.params.values(), o);
+  }
+  return py::bytes(png);
+}
+
 }  // namespace
 
 void register_engines(py::module_& m) {
-  bind_options(m);
+  bind_fit_options(m);
+  bind_convert_and_trace_options(m);
+  bind_refine_options(m);
+  bind_output_options(m);
   m.def("_fit", &run_fit, py::arg("target"), py::arg("options"), py::arg("target_options"));
   m.def("_convert", &run_convert, py::arg("target"), py::arg("options"));
   m.def("_prune", &run_prune, py::arg("tree"), py::arg("points"), py::arg("options"),
@@ -498,6 +540,7 @@ void register_engines(py::module_& m) {
         py::arg("view_options"), py::arg("sphere_subdivisions"), py::arg("cylinder_segments"));
   m.def("_mesh", &run_mesh, py::arg("tree"), py::arg("options"), py::arg("path"));
   m.def("_export", &run_export, py::arg("tree"), py::arg("options"));
+  m.def("_render", &run_render, py::arg("tree"), py::arg("options"));
 }
 
 }  // namespace fuzzycsg::python

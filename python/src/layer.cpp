@@ -94,8 +94,9 @@ class TreeLayer {
       std::vector<double> params = tree_.params.values();
       for (py::ssize_t b = 0; b < in.b; ++b) {
         fill(params, in, b);
-        evaluator_->forward(params, point_span(in, b),
-                            std::span<float>(out.data() + b * in.n, static_cast<std::size_t>(in.n)));
+        evaluator_->forward(
+            params, point_span(in, b),
+            std::span<float>(out.data() + b * in.n, static_cast<std::size_t>(in.n)));
       }
     }
     return to_numpy(std::move(out), {in.b, in.n});
@@ -129,7 +130,8 @@ class TreeLayer {
         evaluator_->backward(params, point_span(in, b), loss, grad, {}, pg);
         const auto bb = static_cast<std::size_t>(b);
         for (std::size_t l = 0; l < p; ++l) {
-          for (std::size_t j = 0; j < k_; ++j) d_leaf[(bb * p + l) * k_ + j] = grad[leaf_index_[l][j]];
+          for (std::size_t j = 0; j < k_; ++j)
+            d_leaf[(bb * p + l) * k_ + j] = grad[leaf_index_[l][j]];
         }
         for (std::size_t j = 0; j < logit_index_.size(); ++j) {
           d_logits[bb * logit_index_.size() + j] = grad[logit_index_[j]];
@@ -156,13 +158,15 @@ class TreeLayer {
     check_finite(l, "leaf");
     Tree t = tree_;
     for (std::size_t i = 0; i < leaf_index_.size(); ++i) {
-      for (std::size_t j = 0; j < k_; ++j) t.params.at(leaf_index_[i][j]).value = l.data()[i * k_ + j];
+      for (std::size_t j = 0; j < k_; ++j)
+        t.params.at(leaf_index_[i][j]).value = l.data()[i * k_ + j];
     }
     if (unified()) {
       const CArray<double> c = as_array<double>(logits, "logits");
       check_shape(c, "logits", {p - 1, 4});
       check_finite(c, "logits");
-      for (std::size_t j = 0; j < logit_index_.size(); ++j) t.params.at(logit_index_[j]).value = c.data()[j];
+      for (std::size_t j = 0; j < logit_index_.size(); ++j)
+        t.params.at(logit_index_[j]).value = c.data()[j];
       for (std::uint32_t k : temperature_index_) t.params.at(k).value = temperature;
       for (std::uint32_t k : temperature_index_) t.params.at(k).fixed = true;
     }
@@ -236,8 +240,8 @@ void register_layer(py::module_& m) {
   py::class_<TreeLayer>(m, "TreeLayer",
                         "Batched evaluation of full binary trees of one topology, with the "
                         "vector-Jacobian product by every input")
-      .def(py::init<int, int, const std::string&, const std::string&, std::optional<double>,
-                    double, std::uint64_t, int>(),
+      .def(py::init<int, int, const std::string&, const std::string&, std::optional<double>, double,
+                    std::uint64_t, int>(),
            py::arg("leaves"), py::arg("dim") = 3, py::arg("family") = "quadric",
            py::arg("ops") = "unified", py::arg("sharpness") = py::none(), py::arg("omega") = 10.0,
            py::arg("seed") = 0, py::arg("threads") = 0)

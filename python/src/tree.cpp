@@ -114,8 +114,8 @@ E named(const OptionNames<E, N>& names, const std::string& value, const char* fi
 }
 
 Tree full_binary_tree(int leaves, int dim, const std::string& family, const std::string& ops,
-                      const std::string& op_init, const std::string& op_types,
-                      double init_range, std::uint64_t seed, double temperature, double omega,
+                      const std::string& op_init, const std::string& op_types, double init_range,
+                      std::uint64_t seed, double temperature, double omega,
                       std::optional<double> sharpness) {
   FullTreeOptions o;
   o.dim = dim;
@@ -187,8 +187,8 @@ py::object grad(const Tree& tree, const py::handle& points, const py::object& we
   double value = 0;
   {
     py::gil_scoped_release release;
-    value = ev.backward(values, std::span<const float>(p.data(), static_cast<std::size_t>(p.size())),
-                        l, g, {}, pg);
+    value = ev.backward(
+        values, std::span<const float>(p.data(), static_cast<std::size_t>(p.size())), l, g, {}, pg);
   }
   py::array_t<double> ga = to_numpy(std::move(g), {static_cast<py::ssize_t>(values.size())});
   if (!points_grad) return py::make_tuple(value, ga);
@@ -199,8 +199,9 @@ py::object grad(const Tree& tree, const py::handle& points, const py::object& we
 
 void register_tree(py::module_& m) {
   py::class_<Tree>(m, "Tree", "A fuzzy CSG tree: nodes over one table of named parameters")
-      .def_static("read", [](const std::string& path) { return io::read_tree_file(path); },
-                  py::arg("path"), "Reads a tree file (docs/tree-format.md)")
+      .def_static(
+          "read", [](const std::string& path) { return io::read_tree_file(path); }, py::arg("path"),
+          "Reads a tree file (docs/tree-format.md)")
       .def_static(
           "from_json",
           [](const std::string& text, const std::string& source) {
@@ -217,7 +218,8 @@ void register_tree(py::module_& m) {
       .def_property_readonly("names",
                              [](const Tree& t) {
                                std::vector<std::string> names;
-                               for (const Parameter& p : t.params.entries()) names.push_back(p.name);
+                               for (const Parameter& p : t.params.entries())
+                                 names.push_back(p.name);
                                return names;
                              })
       .def_property(
@@ -296,8 +298,7 @@ void register_tree(py::module_& m) {
   m.def("full_binary_tree", &full_binary_tree, py::arg("leaves") = 64, py::arg("dim") = 3,
         py::arg("family") = "quadric", py::arg("ops") = "unified", py::arg("op_init") = "uniform",
         py::arg("op_types") = "all", py::arg("init_range") = 0.5, py::arg("seed") = 0,
-        py::arg("temperature") = 1000.0, py::arg("omega") = 10.0,
-        py::arg("sharpness") = py::none(),
+        py::arg("temperature") = 1000.0, py::arg("omega") = 10.0, py::arg("sharpness") = py::none(),
         "Liu et al.'s full binary tree of `leaves` primitives (core/builders.hpp)");
   m.def("eval", &eval, py::arg("tree"), py::arg("points"), py::arg("params") = py::none(),
         py::arg("threads") = 0, "Occupancy (float32, N) at N x dim points");

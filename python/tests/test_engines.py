@@ -114,3 +114,16 @@ def test_errors_are_the_programs(tmp_path, program_error):
     assert str(e.value) == program_error("fit", blank, "-o", tmp_path / "out2", "--iters", 1)
     with pytest.raises(TypeError, match="a path expected"):
         fuzzycsg.convert(42)
+
+
+def test_render_a_picture(tmp_path):
+    tree = fuzzycsg.Tree.from_json(PROGRAM)
+    path = tmp_path / "r.png"
+    png = fuzzycsg.render(tree, path, width=64, height=48, resolution=32,
+                          camera={"eye": [3, -4, 2.5], "fov_deg": 30})
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and path.read_bytes() == png
+    assert int.from_bytes(png[16:20], "big") == 64 and int.from_bytes(png[20:24], "big") == 48
+    with pytest.raises(fuzzycsg.InputError, match="inside"):
+        fuzzycsg.render(tree, camera={"eye": [0, 0, 0], "target": [1, 0, 0]})
+    with pytest.raises(fuzzycsg.InputError, match="3D"):
+        fuzzycsg.render(fuzzycsg.Tree.from_json(DISC))

@@ -45,8 +45,9 @@ void read_view_set(const std::filesystem::path& path, const TargetViewOptions& o
   if (o.size_given) {
     for (std::size_t v = 0; v < set.images.size(); ++v) {
       if (set.images[v].width != o.size || set.images[v].height != o.size) {
-        throw OptionError("size", fmt::format("{}: view {}'s image is {}x{}, not {}", path.string(),
-                                              v, set.images[v].width, set.images[v].height, o.size));
+        throw OptionError("size",
+                          fmt::format("{}: view {}'s image is {}x{}, not {}", path.string(), v,
+                                      set.images[v].width, set.images[v].height, o.size));
       }
     }
   }
@@ -84,7 +85,8 @@ LoadedTarget load_refine_target(const std::filesystem::path& path, const TargetV
     loaded.kind = "model";
     const OpenscadModel m = read_refine_model(path, tessellation);
     scene = scene_from_tree(m.tree, path.string(), m.tessellation);
-    if (o.shading == Shading::kColours && scene.primitives.size() != model_scene.primitives.size()) {
+    if (o.shading == Shading::kColours &&
+        scene.primitives.size() != model_scene.primitives.size()) {
       throw InputError(fmt::format(
           "{}: {} primitives, the model {}: colour images need the same program (primitive k "
           "for primitive k)",

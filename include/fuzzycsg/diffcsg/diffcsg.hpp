@@ -16,6 +16,8 @@
 //   pipeline.hpp      the renderer whole: forward and backward.
 //   targets.hpp       what refinement matches: meshes, images and their cameras (views files).
 //   refine.hpp        refine: Adam or CMA-ES on the image loss.
+//   refine_target.hpp what refine reads: the model (tree file or .csg) and the target (a model
+//                     or mesh drawn from orbiting cameras, or a views file).
 //   report.hpp        report.json of a refinement.
 
 #include "fuzzycsg/diffcsg/antialias.hpp"
@@ -25,6 +27,7 @@
 #include "fuzzycsg/diffcsg/pipeline.hpp"
 #include "fuzzycsg/diffcsg/products.hpp"
 #include "fuzzycsg/diffcsg/refine.hpp"
+#include "fuzzycsg/diffcsg/refine_target.hpp"
 #include "fuzzycsg/diffcsg/report.hpp"
 #include "fuzzycsg/diffcsg/scene.hpp"
 #include "fuzzycsg/diffcsg/shade.hpp"

@@ -20,13 +20,13 @@ OpenscadModel read_refine_model(const std::filesystem::path& path,
 // The cameras about a model or mesh target, and how its images are drawn.
 struct TargetViewOptions {
   Shading shading = Shading::kNormals;
-  int views = 4;             // cameras orbiting the target, in [1, 64]
-  int size = 256;            // pixels (square), in [8, 4096]
-  bool size_given = false;   // a views file's images must then be `size` square
-  double elevation = 25;     // degrees
-  double distance = 0;       // 0: the target fills the view
-  double fov = 30;           // vertical, degrees, in (0, 180)
-  int random_views = 0;      // refine's random_view_every (not for a views file)
+  int views = 4;            // cameras orbiting the target, in [1, 64]
+  int size = 256;           // pixels (square), in [8, 4096]
+  bool size_given = false;  // a views file's images must then be `size` square
+  double elevation = 25;    // degrees
+  double distance = 0;      // 0: the target fills the view
+  double fov = 30;          // vertical, degrees, in (0, 180)
+  int random_views = 0;     // refine's random_view_every (not for a views file)
   bool intersection_aa = true;
   int threads = 0;
 };
