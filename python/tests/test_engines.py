@@ -124,6 +124,6 @@ def test_render_a_picture(tmp_path):
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and path.read_bytes() == png
     assert int.from_bytes(png[16:20], "big") == 64 and int.from_bytes(png[20:24], "big") == 48
     with pytest.raises(fuzzycsg.InputError, match="inside"):
-        fuzzycsg.render(tree, camera={"eye": [0, 0, 0], "target": [1, 0, 0]})
+        fuzzycsg.render(tree, camera={"eye": [0.5, 0.4, 0.3], "target": [0, 0, 1]})
     with pytest.raises(fuzzycsg.InputError, match="3D"):
         fuzzycsg.render(fuzzycsg.Tree.from_json(DISC))
