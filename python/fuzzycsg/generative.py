@@ -81,7 +81,7 @@ class CSGDecoder(nn.Module):
 
     def forward(self, z, points, temperature: float):
         leaf, logits = self.tree_parameters(z)
-        t = torch.full((z.shape[0],), float(temperature), dtype=leaf.dtype)
+        t = torch.full((z.shape[0],), float(temperature), dtype=leaf.dtype, device=leaf.device)
         return self.layer(leaf, logits, t, points)
 
 
@@ -91,7 +91,9 @@ class Autoencoder(nn.Module):
         self.config = dict(config)
         self.encoder = PointNetEncoder(config["latent"])
         self.decoder = CSGDecoder(config["latent"], config["leaves"], config["decoder"],
-                                  config["sharpness"], config["seed"], threads=config["threads"])
+                                  config["sharpness"], config["seed"],
+                                  backend=config.get("backend", "kernel"),
+                                  threads=config["threads"])
 
     def forward(self, cloud, points, temperature):
         return self.decoder(self.encoder(cloud), points, temperature)
@@ -106,7 +108,8 @@ class Autoencoder(nn.Module):
 DEFAULTS = {"decoder": "unified", "leaves": 512, "latent": 256, "sharpness": 10.0,
             "batch": 16, "points": 1024, "cloud": 512, "lr": 1e-3, "minutes": 15.0,
             "steps": 0, "temperature_start": 10.0, "temperature": 1000.0,
-            "temperature_ramp": 1.0, "seed": 0, "threads": 0}
+            "temperature_ramp": 1.0, "seed": 0, "threads": 0, "device": "cpu",
+            "backend": "kernel"}
 
 
 def temperature_at(config: dict, fraction: float) -> float:
@@ -136,7 +139,8 @@ def train(data: str, output: str, **overrides) -> dict:
     torch.manual_seed(config["seed"])
     rng = np.random.default_rng(config["seed"])
     split = _dataset.load(os.path.join(data, "train.npz"))
-    model = Autoencoder(config)
+    device = torch.device(config["device"])
+    model = Autoencoder(config).to(device)
     optimiser = torch.optim.Adam(model.parameters(), lr=config["lr"])
     budget = config["minutes"] * 60.0
     started = time.perf_counter()
@@ -149,7 +153,7 @@ def train(data: str, output: str, **overrides) -> dict:
             break
         t = temperature_at(config, fraction)
         index = rng.choice(len(split["cloud"]), config["batch"], replace=False)
-        cloud, points, labels = _batch(split, index, rng, config)
+        cloud, points, labels = _batch(split, index, rng, config, device)
         loss = torch.mean((model(cloud, points, t) - labels) ** 2)
         optimiser.zero_grad()
         loss.backward()
@@ -169,13 +173,15 @@ def train(data: str, output: str, **overrides) -> dict:
 
 def _save(model: Autoencoder, path: str) -> None:
     tmp = path + ".tmp"
-    torch.save({"config": model.config, "state": model.state_dict()}, tmp)
+    state = {k: v.cpu() for k, v in model.state_dict().items()}
+    torch.save({"config": model.config, "state": state}, tmp)
     os.replace(tmp, path)
 
 
 def load_model(run: str) -> Autoencoder:
-    saved = torch.load(os.path.join(run, "model.pt"))
-    model = Autoencoder(saved["config"])
+    """A trained model, on the CPU with the C++ kernel (whatever it was trained on)."""
+    saved = torch.load(os.path.join(run, "model.pt"), map_location="cpu")
+    model = Autoencoder({**saved["config"], "device": "cpu", "backend": "kernel"})
     model.load_state_dict(saved["state"])
     return model.eval()
 
@@ -317,6 +323,8 @@ def main(argv=None) -> None:
     for key, value in DEFAULTS.items():
         kind = type(value) if not isinstance(value, bool) else int
         tr.add_argument("--" + key.replace("_", "-"), type=kind, default=value)
+    # On a GPU: --device cuda --backend torch (the pure-PyTorch model on the device; the kernel
+    # backend copies every batch to the CPU and back).
     ev = sub.add_parser("evaluate")
     ev.add_argument("--data", required=True)
     ev.add_argument("--run", required=True)
@@ -330,6 +338,8 @@ def main(argv=None) -> None:
         overrides = {k: getattr(a, k) for k in DEFAULTS}
         if overrides["decoder"] not in ("unified", "product"):
             ap.error("--decoder: unified or product")
+        if overrides["backend"] not in ("kernel", "torch"):
+            ap.error("--backend: kernel or torch")
         log = train(a.data, a.output, **overrides)
         print(f"train: {log['steps']} steps in {log['seconds']:.0f} s, loss "
               f"{log['curve'][0][1] if log['curve'] else math.nan:.4f} -> "

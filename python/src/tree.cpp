@@ -195,6 +195,47 @@ py::object grad(const Tree& tree, const py::handle& points, const py::object& we
   return py::make_tuple(value, ga, to_numpy(std::move(pg), {n, py::ssize_t{tree.dim}}));
 }
 
+py::dict parameter_groups(const Tree& t) {
+  std::map<std::string, std::vector<double>> groups;
+  std::vector<std::string> order;
+  for (const Parameter& p : t.params.entries()) {
+    const std::string g = group_of(p.name);
+    if (!groups.count(g)) order.push_back(g);
+    groups[g].push_back(p.value);
+  }
+  py::dict d;
+  for (const std::string& g : order) {
+    auto& v = groups[g];
+    const auto n = static_cast<py::ssize_t>(v.size());
+    d[py::str(g)] = to_numpy(std::move(v), {n});
+  }
+  return d;
+}
+
+// Sets the entries named `name` (a parameter, or an array field's entries) and validates the
+// tree; on an error the tree is unchanged.
+void set_named(Tree& t, const std::string& name, const py::handle& value) {
+  const auto idx = entries_named(t, name);
+  CArray<double> a = as_array<double>(value, "value");
+  if (a.ndim() == 0) a = a.reshape({py::ssize_t{1}});
+  check_shape(a, "value", {static_cast<py::ssize_t>(idx.size())});
+  check_finite(a, "value");
+  Tree next = t;
+  for (std::size_t k = 0; k < idx.size(); ++k) next.params.at(idx[k]).value = a.data()[k];
+  validate(next, name);
+  t = std::move(next);
+}
+
+void set_values(Tree& t, const py::handle& v) {
+  const CArray<double> a = as_array<double>(v, "values");
+  check_shape(a, "values", {static_cast<py::ssize_t>(t.params.size())});
+  check_finite(a, "values");
+  Tree next = t;
+  next.params.set_values({a.data(), static_cast<std::size_t>(a.size())});
+  validate(next, "values");
+  t = std::move(next);
+}
+
 }  // namespace
 
 void register_tree(py::module_& m) {
@@ -229,15 +270,7 @@ void register_tree(py::module_& m) {
             const auto n = static_cast<py::ssize_t>(v.size());
             return to_numpy(std::move(v), {n});
           },
-          [](Tree& t, const py::handle& v) {
-            const CArray<double> a = as_array<double>(v, "values");
-            check_shape(a, "values", {static_cast<py::ssize_t>(t.params.size())});
-            check_finite(a, "values");
-            Tree next = t;
-            next.params.set_values({a.data(), static_cast<std::size_t>(a.size())});
-            validate(next, "values");
-            t = std::move(next);
-          },
+          &set_values,
           "Every parameter's value, in the table's order (names); set to change them all")
       .def_property_readonly("fixed",
                              [](const Tree& t) {
@@ -254,39 +287,10 @@ void register_tree(py::module_& m) {
             return to_numpy(std::move(v), {n});
           },
           py::arg("name"), "A parameter, or the entries of an array field, as an array")
-      .def(
-          "set",
-          [](Tree& t, const std::string& name, const py::handle& value) {
-            const auto idx = entries_named(t, name);
-            CArray<double> a = as_array<double>(value, "value");
-            if (a.ndim() == 0) a = a.reshape({py::ssize_t{1}});
-            check_shape(a, "value", {static_cast<py::ssize_t>(idx.size())});
-            check_finite(a, "value");
-            Tree next = t;
-            for (std::size_t k = 0; k < idx.size(); ++k) next.params.at(idx[k]).value = a.data()[k];
-            validate(next, name);
-            t = std::move(next);
-          },
-          py::arg("name"), py::arg("value"))
-      .def(
-          "parameters",
-          [](const Tree& t) {
-            std::map<std::string, std::vector<double>> groups;
-            std::vector<std::string> order;
-            for (const Parameter& p : t.params.entries()) {
-              const std::string g = group_of(p.name);
-              if (!groups.count(g)) order.push_back(g);
-              groups[g].push_back(p.value);
-            }
-            py::dict d;
-            for (const std::string& g : order) {
-              auto& v = groups[g];
-              const auto n = static_cast<py::ssize_t>(v.size());
-              d[py::str(g)] = to_numpy(std::move(v), {n});
-            }
-            return d;
-          },
-          "Every parameter by name, array fields as one array each, in table order")
+      .def("set", &set_named, py::arg("name"), py::arg("value"),
+           "Sets a parameter, or the entries of an array field; checked against their ranges")
+      .def("parameters", &parameter_groups,
+           "Every parameter by name, array fields as one array each, in table order")
       .def("info", &info, "Counts: primitives, operators, depth, parameters, families")
       .def("__repr__", [](const Tree& t) {
         const TreeCounts c = count(t);
