@@ -42,7 +42,6 @@ fuzz: deps
 	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 bench: deps
-	@FUZZYCSG_WITH_TORCH=1 bash scripts/install-deps.sh
 	@bash bench/run_eval_bench.sh
 
 gallery:

@@ -15,13 +15,10 @@ packages=(
   libopencsg-dev libglew-dev libgl-dev libegl-dev libegl-mesa0 libgl1-mesa-dri
   # The Python module (built by pybind11 for Debian's python3) and its tests; OpenBLAS so that
   # PyTorch's matrix products do not run on the reference BLAS.
+  # matplotlib draws the generative model's pictures (and bench/fig12_pareto.py's).
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-torch libopenblas0-pthread
+  python3-matplotlib
 )
-# matplotlib, for bench/fig12_pareto.py and the generative model's pictures, is optional for
-# building and testing.
-if [[ "${FUZZYCSG_WITH_TORCH:-0}" == "1" ]]; then
-  packages+=(python3-matplotlib)
-fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -19,34 +19,12 @@ struct InfoArgs {
   bool json = false;
 };
 
-std::string operator_label(const Node& n) {
-  std::string label(op_name(n.op));
-  if (n.op == OpKind::kComplement)
-    return label + " (" + std::string(logic::complement_name(n.complement.kind)) + ")";
-  if (n.op == OpKind::kUnified) return label + (n.unified_logits ? " (logits)" : " (c)");
-  if (n.op == OpKind::kSpline) {
-    std::string cells;
-    for (std::size_t k = 0; k < n.spline_cells.size(); ++k) {
-      cells += (k ? "x" : "") + std::to_string(n.spline_cells[k]);
-    }
-    return label + " (" + cells + ", deg " + std::to_string(n.spline_degree) + ")";
-  }
-  return label + " (" + std::string(logic::family_name(n.logic.family)) + ")";
-}
-
 int run_info(const InfoArgs& a) {
   const Tree tree = io::read_tree_file(a.tree);
   const TreeCounts counts = count(tree);
-  std::map<std::string, int> families, operators;
-  for (const Node& n : tree.nodes) {
-    if (n.kind == NodeKind::kPrimitive) {
-      ++families[std::string(primitive_info(n.shape.type).name)];
-    } else {
-      ++operators[operator_label(n)];
-    }
-  }
-  int shared = 0;
-  for (const Parameter& p : tree.params.entries()) shared += p.shared ? 1 : 0;
+  const auto& families = counts.families;
+  const auto& operators = counts.operator_kinds;
+  const int shared = counts.shared_parameters;
   const Program program = Program::compile(tree);
 
   if (a.json) {

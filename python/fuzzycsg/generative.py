@@ -108,7 +108,7 @@ class Autoencoder(nn.Module):
 DEFAULTS = {"decoder": "unified", "leaves": 512, "latent": 256, "sharpness": 10.0,
             "batch": 16, "points": 1024, "cloud": 512, "lr": 1e-3, "minutes": 15.0,
             "steps": 0, "temperature_start": 10.0, "temperature": 1000.0,
-            "temperature_ramp": 1.0, "seed": 0, "threads": 0, "device": "cpu",
+            "temperature_ramp": 0.6, "seed": 0, "threads": 0, "device": "cpu",
             "backend": "kernel"}
 
 
@@ -279,7 +279,7 @@ def pictures(data: str, runs: list, output: str, shapes=(0, 1, 2, 3, 4, 5),
                                 for k in shapes])]
     for run, model in zip(runs, models):
         cloud = torch.from_numpy(split["cloud"][list(shapes)][:, :model.config["cloud"]])
-        trees = model.trees(model.encoder(cloud), model.temperature_at(config, 1.0))
+        trees = model.trees(model.encoder(cloud), temperature_at(model.config, 1.0))
         pics = [_picture(fuzzycsg.prune(t, split["eval_points"][k])[0])
                 for k, t in zip(shapes, trees)]
         rows.append((f"{model.config['decoder']} decoder", pics))
@@ -291,7 +291,7 @@ def pictures(data: str, runs: list, output: str, shapes=(0, 1, 2, 3, 4, 5),
     za, zb = model.encoder(cloud)
     ts = np.linspace(0, 1, frames)
     trees = model.trees(torch.stack([(1 - s) * za + s * zb for s in ts]),
-                        model.temperature_at(config, 1.0))
+                        temperature_at(model.config, 1.0))
     row = [_picture(fuzzycsg.prune(t, split["eval_points"][a])[0]) for t in trees]
     _grid(plt, [(f"{model.config['decoder']}: code {a} to code {b}", row)], written[1])
     return written

@@ -80,16 +80,6 @@ std::vector<std::size_t> entries_named(const Tree& tree, const std::string& name
 
 py::dict info(const Tree& tree) {
   const TreeCounts c = count(tree);
-  std::map<std::string, int> families, operators;
-  for (const Node& n : tree.nodes) {
-    if (n.kind == NodeKind::kPrimitive) {
-      ++families[std::string(primitive_info(n.shape.type).name)];
-    } else {
-      ++operators[std::string(op_name(n.op))];
-    }
-  }
-  int shared = 0;
-  for (const Parameter& p : tree.params.entries()) shared += p.shared ? 1 : 0;
   py::dict d;
   d["dim"] = tree.dim;
   d["primitives"] = c.primitives;
@@ -98,10 +88,10 @@ py::dict info(const Tree& tree) {
   d["parameters"] = c.parameters;
   d["free_parameters"] = c.free_parameters;
   d["fixed_parameters"] = c.parameters - c.free_parameters;
-  d["shared_parameters"] = shared;
+  d["shared_parameters"] = c.shared_parameters;
   d["instructions"] = Program::compile(tree).tape().size();
-  d["families"] = families;
-  d["operator_kinds"] = operators;
+  d["families"] = c.families;
+  d["operator_kinds"] = c.operator_kinds;
   return d;
 }
 

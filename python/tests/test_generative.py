@@ -2,6 +2,8 @@
 (trains, measures, decodes to ordinary trees), on a tiny configuration."""
 
 import json
+import os
+import subprocess
 
 import numpy as np
 import pytest
@@ -77,3 +79,28 @@ def test_training_evaluation_and_decoded_trees(data, tmp_path, decoder):
                                occ[1].detach().numpy(), atol=1e-5)
     pruned, _ = fuzzycsg.prune(trees[1], split["eval_points"][1])
     assert fuzzycsg.export_report(pruned)["leaves"] == pruned.info()["primitives"]
+    # ... which the program's verbs read.
+    program = os.environ["FUZZYCSG_PROGRAM"]
+    for verb, out in (("prune", "pruned.json"), ("export", "model.scad")):
+        args = [program, verb, str(path), "-o", str(tmp_path / out)]
+        if verb == "prune":
+            args += ["--target", str(path), "--no-metrics", "--points", "4096"]
+        r = subprocess.run(args, capture_output=True, text=True)
+        assert r.returncode == 0 and (tmp_path / out).stat().st_size > 0, r.stderr
+
+
+def test_pictures_of_reconstructions_and_an_interpolation(data, tmp_path):
+    import matplotlib.image as mpimg
+
+    runs = []
+    for decoder in ("unified", "product"):
+        run = tmp_path / decoder
+        generative.train(str(data), str(run), decoder=decoder, **{**TINY, "steps": 4})
+        runs.append(str(run))
+    written = generative.pictures(str(data), runs, str(tmp_path / "pics"), shapes=(0, 1),
+                                  interpolate=(0, 1), frames=3)
+    grid = mpimg.imread(written[0])
+    strip = mpimg.imread(written[1])
+    # Three rows (inputs, two decoders) of two pictures; one row of three frames.
+    assert grid.shape[0] > strip.shape[0] and grid.shape[1] < strip.shape[1]
+    assert grid[..., :3].std() > 0.05  # not blank

@@ -582,11 +582,28 @@ std::vector<std::string> node_paths(const Tree& tree) {
   return paths;
 }
 
+std::string operator_label(const Node& n) {
+  std::string label(op_name(n.op));
+  if (n.op == OpKind::kComplement) {
+    return label + " (" + std::string(logic::complement_name(n.complement.kind)) + ")";
+  }
+  if (n.op == OpKind::kUnified) return label + (n.unified_logits ? " (logits)" : " (c)");
+  if (n.op == OpKind::kSpline) {
+    std::string cells;
+    for (std::size_t k = 0; k < n.spline_cells.size(); ++k) {
+      cells += (k ? "x" : "") + std::to_string(n.spline_cells[k]);
+    }
+    return label + " (" + cells + ", deg " + std::to_string(n.spline_degree) + ")";
+  }
+  return label + " (" + std::string(logic::family_name(n.logic.family)) + ")";
+}
+
 TreeCounts count(const Tree& tree) {
   TreeCounts counts;
   counts.parameters = static_cast<int>(tree.params.size());
   for (const Parameter& p : tree.params.entries()) {
     if (!p.fixed) ++counts.free_parameters;
+    if (p.shared) ++counts.shared_parameters;
   }
   const std::size_t n = tree.nodes.size();
   if (tree.root < 0 || static_cast<std::size_t>(tree.root) >= n) return counts;
@@ -601,8 +618,10 @@ TreeCounts count(const Tree& tree) {
     const Node& node = tree.nodes[static_cast<std::size_t>(i)];
     if (node.kind == NodeKind::kPrimitive) {
       ++counts.primitives;
+      ++counts.families[std::string(primitive_info(node.shape.type).name)];
     } else {
       ++counts.operators;
+      ++counts.operator_kinds[operator_label(node)];
     }
     counts.depth = std::max(counts.depth, depth);
     for (int c : node.children) {

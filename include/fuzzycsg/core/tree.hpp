@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -140,9 +141,17 @@ struct TreeCounts {
   int primitives = 0;
   int operators = 0;
   int parameters = 0;
-  int free_parameters = 0;  // not fixed
+  int free_parameters = 0;    // not fixed
+  int shared_parameters = 0;  // declared in the top-level "parameters" object
   int depth = 0;
+  std::map<std::string, int> families;        // leaves by family name ("sphere", ...)
+  std::map<std::string, int> operator_kinds;  // operators by operator_label()
 };
+// What `fuzzycsg info` reports of a tree (the nodes reached from the root).
 TreeCounts count(const Tree& tree);
+
+// An operator as `fuzzycsg info` names it: "union (product)", "complement (standard)",
+// "unified (logits)", "spline (4x4, deg 2)".
+std::string operator_label(const Node& node);
 
 }  // namespace fuzzycsg
