@@ -33,6 +33,7 @@ Verb register_refine(CLI::App& app);
 Verb register_trace(CLI::App& app);
 Verb register_morph(CLI::App& app);
 Verb register_convert(CLI::App& app);
+Verb register_batch(CLI::App& app);
 
 // A fit as the fit verb runs it (the demo runs one too).
 struct FitJob {

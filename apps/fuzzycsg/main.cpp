@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   verbs.push_back(fuzzycsg::app::register_trace(app));
   verbs.push_back(fuzzycsg::app::register_morph(app));
   verbs.push_back(fuzzycsg::app::register_convert(app));
+  verbs.push_back(fuzzycsg::app::register_batch(app));
 
   // A first word that names no verb is refused by name (CLI11 would only ask for a verb).
   if (argc > 1 && argv[1][0] != '-') {

@@ -1,0 +1,117 @@
+#!/usr/bin/env bash
+# The batch verb on this machine: a manifest of small fits run two at a time, each job done or
+# absent, a rerun that skips what is done, a batch killed with kill -9 and run again that
+# completes the set with every job run to completion once, failed jobs kept apart and retried,
+# and bad manifests refused with one line naming the manifest's line before anything runs.
+# Usage: batch_cli_test.sh PATH/TO/fuzzycsg SOURCE_DIR
+set -u
+bin=$1
+src=$2
+source "$(dirname "$0")/lib.sh"
+
+mkdir -p "$tmp/parts"
+cat >"$tmp/parts/disc.json" <<'JSON'
+{"format": "fuzzycsg-tree", "version": 1, "dim": 2,
+ "root": {"type": "circle", "radius": 0.5, "translate": [0.1, 0.0]}}
+JSON
+# manifest N ITERS: N fits of the disc (relative input paths: against the manifest's folder).
+manifest() {
+  for ((i = 0; i < $1; i++)); do
+    printf '{"id": "disc-s%d", "verb": "fit", "input": "parts/disc.json", "options": ["--prims", "4", "--iters", "%d", "--seed", "%d", "--threads", "1", "-q", "--metric-points", "20000"]}\n' \
+      "$i" "$2" "$i"
+  done
+}
+manifest 8 200 >"$tmp/m.jsonl"
+
+# All eight, two at a time; each folder is the fit's output with job.json beside it.
+if "$bin" batch "$tmp/m.jsonl" -o "$tmp/runs" --jobs 2 >"$tmp/b1.out" 2>"$tmp/b1.err" &&
+    python3 - "$tmp/runs" <<'PY'
+import json, os, sys
+out = sys.argv[1]
+ids = sorted(d for d in os.listdir(out) if not d.startswith("."))
+assert ids == [f"disc-s{i}" for i in range(8)], ids
+for i in ids:
+    job = json.load(open(os.path.join(out, i, "job.json")))
+    assert job["status"] == "done" and job["exit_status"] == 0 and job["id"] == i, job
+    assert os.path.isabs(job["input"]) and job["input"].endswith("parts/disc.json"), job
+    assert os.path.getsize(os.path.join(out, i, "tree.json")) > 0
+    assert json.load(open(os.path.join(out, i, "report.json")))["seed"] == int(i[6:])
+assert not os.path.exists(os.path.join(out, ".failed"))
+assert os.listdir(os.path.join(out, ".tmp")) == []
+PY
+then ok; else bad "batch --jobs 2: $(tail -3 "$tmp/b1.err")"; fi
+
+# A rerun skips what is done: nothing is rewritten.
+stamp=$(stat -c %Y.%N "$tmp/runs/disc-s3/job.json")
+if "$bin" batch "$tmp/m.jsonl" -o "$tmp/runs" --jobs 2 >"$tmp/b2.out" 2>&1 &&
+    grep -q "0 done now, 8 done earlier, 0 failed" "$tmp/b2.out" &&
+    [[ $(stat -c %Y.%N "$tmp/runs/disc-s3/job.json") == "$stamp" ]]; then ok
+else bad "rerun: $(cat "$tmp/b2.out")"; fi
+
+# --index I runs job I alone (a job array's task): done once, then skipped.
+if "$bin" batch "$tmp/m.jsonl" -o "$tmp/one" --index 5 -q && [[ -f "$tmp/one/disc-s5/job.json" ]] &&
+    [[ $(ls "$tmp/one") == "disc-s5" ]] &&
+    "$bin" batch "$tmp/m.jsonl" -o "$tmp/one" --index 5 | grep -q "disc-s5: done earlier"; then ok
+else bad "--index"; fi
+
+# kill -9 of the batch while jobs run: no job folder is half written, and a rerun completes the
+# set; every job ran to completion exactly once (its report's start time is unique).
+manifest 8 4000 >"$tmp/long.jsonl"
+"$bin" batch "$tmp/long.jsonl" -o "$tmp/killed" --jobs 2 -q >/dev/null 2>&1 &
+batch=$!
+for _ in $(seq 600); do
+  [[ -n $(ls "$tmp/killed" 2>/dev/null | grep -v '^\.') ]] && break
+  sleep 0.1
+done
+kill -9 "$batch"
+wait "$batch" 2>/dev/null
+sleep 0.3
+first=$(ls "$tmp/killed" | grep -cv '^\.')
+if [[ $first -ge 1 && $first -lt 8 ]] && ! pgrep -f "killed/.tmp" >/dev/null; then ok
+else bad "kill -9: $first jobs done (expected some, not all), or orphaned jobs still running"; fi
+if "$bin" batch "$tmp/long.jsonl" -o "$tmp/killed" --jobs 2 -q &&
+    python3 - "$tmp/killed" "$first" <<'PY'
+import json, os, sys
+out, first = sys.argv[1], int(sys.argv[2])
+ids = sorted(d for d in os.listdir(out) if not d.startswith("."))
+assert len(ids) == 8, ids
+for i in ids:
+    assert json.load(open(os.path.join(out, i, "job.json")))["status"] == "done"
+    assert json.load(open(os.path.join(out, i, "report.json")))["stop"] == "iterations"
+assert os.listdir(os.path.join(out, ".tmp")) == [], os.listdir(os.path.join(out, ".tmp"))
+PY
+then ok; else bad "rerun after kill -9"; fi
+
+# A job that fails is kept apart with its stderr, named at the end, and tried again.
+printf '{"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 0.5}}\n' \
+  >"$tmp/parts/late.json"
+printf '%s\n' '{"id": "ok", "verb": "fit", "input": "parts/disc.json", "options": ["--prims", "4", "--iters", "50", "-q"]}' \
+  '{"id": "bad", "verb": "fit", "input": "parts/late.json", "options": ["--prims", "4", "--iters", "50", "-q", "--init", "balls", "--surface", "0.9", "--near", "0.9"]}' \
+  >"$tmp/f.jsonl"
+"$bin" batch "$tmp/f.jsonl" -o "$tmp/f" --jobs 2 >"$tmp/f.out" 2>"$tmp/f.err"
+rc=$?
+if [[ $rc -eq 1 && -f "$tmp/f/ok/job.json" && ! -e "$tmp/f/bad" && -s "$tmp/f/.failed/bad/stderr.txt" ]] &&
+    grep -q "failed: bad (manifest line 2)" "$tmp/f.err"; then ok
+else bad "a failing job (rc $rc): $(cat "$tmp/f.err")"; fi
+
+# Bad manifests: one line naming the manifest's line, exit 2, nothing run or written.
+check_refused() {
+  local pattern=$1 text=$2
+  printf '%s\n' "$text" >"$tmp/bad.jsonl"
+  expect_error "$pattern" "$bin" batch "$tmp/bad.jsonl" -o "$tmp/never"
+  [[ -e "$tmp/never" ]] && bad "a refused manifest created its output ($pattern)"
+}
+good='{"id": "a", "verb": "fit", "input": "parts/disc.json"}'
+check_refused 'bad.jsonl:2: id: .a. is used by an earlier line' "$good"$'\n'"$good"
+check_refused 'bad.jsonl:1: verb: unknown verb .mesh.' '{"id": "a", "verb": "mesh", "input": "parts/disc.json"}'
+check_refused 'bad.jsonl:1: input: .*parts/nothing.stl: no such file' '{"id": "a", "verb": "convert", "input": "parts/nothing.stl"}'
+check_refused 'bad.jsonl:1: options: .*--primz' '{"id": "a", "verb": "fit", "input": "parts/disc.json", "options": ["--primz", "4"]}'
+check_refused 'bad.jsonl:1: options: .*--prims' '{"id": "a", "verb": "fit", "input": "parts/disc.json", "options": ["--prims", "four"]}'
+check_refused 'bad.jsonl:3: not JSON' "$good"$'\n'"# a comment"$'\n''{"id": "b",'
+check_refused 'bad.jsonl:1: id: .\.\./x. must be' '{"id": "../x", "verb": "fit", "input": "parts/disc.json"}'
+check_refused 'bad.jsonl:1: colour: unknown field' '{"id": "a", "verb": "fit", "input": "parts/disc.json", "colour": 1}'
+check_refused 'bad.jsonl: no jobs' '# nothing'
+expect_error '--index: 8 jobs in .*m.jsonl, so at most 7' "$bin" batch "$tmp/m.jsonl" -o "$tmp/never2" --index 8
+
+echo "batch: $pass passed, $fail failed"
+[[ $fail -eq 0 ]]
