@@ -29,15 +29,11 @@ bool valid_id(const std::string& id) {
 void check_options(const BatchJob& job, const std::string& where) {
   CLI::App app{"fuzzycsg", "fuzzycsg"};
   app.require_subcommand(1);
-  if (job.verb == "convert") {
-    register_convert(app);
-  } else if (job.verb == "fit") {
-    register_fit(app);
-  } else if (job.verb == "trace") {
-    register_trace(app);
-  } else {
-    register_refine(app);
-  }
+  // The verb's settings live as long as the Verb its registration returns: kept while parsing.
+  const Verb verb = job.verb == "convert" ? register_convert(app)
+                    : job.verb == "fit"   ? register_fit(app)
+                    : job.verb == "trace" ? register_trace(app)
+                                          : register_refine(app);
   std::vector<std::string> args = batch_job_arguments(job, "batch-check-output");
   std::reverse(args.begin(), args.end());  // CLI11 takes them last first
   try {
