@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "batch_summary.hpp"
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
 
@@ -18,7 +19,10 @@ namespace {
 using nlohmann::json;
 
 bool valid_id(const std::string& id) {
-  if (id.empty() || id.size() > 200 || id == "." || id == ".." || id.front() == '.') return false;
+  if (id.empty() || id.size() > 200 || id.front() == '.') return false;
+  for (const char* taken : kSummaryFiles) {
+    if (id == taken) return false;
+  }
   return std::all_of(id.begin(), id.end(), [](unsigned char c) {
     return std::isalnum(c) || c == '.' || c == '_' || c == '-';
   });
@@ -60,8 +64,10 @@ BatchJob read_job(const json& j, int line, const std::filesystem::path& base,
   }
   job.id = j["id"].get<std::string>();
   if (!valid_id(job.id)) {
-    throw InputError(fmt::format(
-        "{}: id: '{}' must be letters, digits, '.', '_' or '-' (not first a '.')", where, job.id));
+    throw InputError(
+        fmt::format("{}: id: '{}' must be letters, digits, '.', '_' or '-' (not first a '.', not a "
+                    "summary file's name)",
+                    where, job.id));
   }
   job.verb = j["verb"].get<std::string>();
   if (std::none_of(std::begin(kBatchVerbs), std::end(kBatchVerbs),

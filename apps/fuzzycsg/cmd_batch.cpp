@@ -1,19 +1,13 @@
 // fuzzycsg batch MANIFEST -o OUTDIR [--jobs N]      every job of the manifest, N at a time
+// fuzzycsg batch MANIFEST -o OUTDIR --slurm          the jobs not done as one Slurm job array
 // fuzzycsg batch MANIFEST -o OUTDIR --index I       job I alone (what a job array's task runs)
+// fuzzycsg batch OUTDIR --summary                    summary.csv, summary.json, summary.png
 //
-// Each job is the program itself run on one line of the manifest (batch_manifest.hpp) with its
-// output in a temporary folder, OUTDIR/.tmp/ID.PID.K, renamed to OUTDIR/ID when the verb
-// succeeded: a job is done or absent. job.json in that folder records the command, the exit
-// status and the time; stdout.txt and stderr.txt are the verb's output. A job that failed leaves
-// OUTDIR/.failed/ID (the same files) and is tried again by the next run; a job already done is
-// skipped. A job's process dies with the batch (a batch killed with kill -9 leaves only
-// temporary folders, which the next run removes).
+// The manifest is batch_manifest.hpp's; a job runs as batch_run.hpp says (done or absent, failed
+// attempts kept apart and tried again); Slurm submission is batch_slurm.hpp's and the summary
+// batch_summary.hpp's.
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <signal.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -22,15 +16,17 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "batch_manifest.hpp"
+#include "batch_run.hpp"
+#include "batch_slurm.hpp"
+#include "batch_summary.hpp"
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
-#include "fuzzycsg/io/files.hpp"
+#include "support.hpp"
 
 namespace fuzzycsg::app {
 
@@ -42,143 +38,37 @@ struct BatchArgs {
   std::string manifest, out;
   int jobs = 1;
   int index = -1;
+  int threads = 0;
+  bool slurm = false;
+  SlurmSubmission submission;
+  bool summary = false;
   bool quiet = false;
 };
 
-enum class Outcome { kDone, kSkipped, kFailed };
-
-struct Finished {
-  Outcome outcome = Outcome::kDone;
-  double seconds = 0;
-  std::string status;  // "exit 3", "signal 9"
-};
-
-// Runs `args` (after the program's name) with stdout and stderr to files; the exit status, or
-// 128 + the signal that ended it.
-int run_child(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
-  std::vector<std::string> argv_store{self};
-  argv_store.insert(argv_store.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : argv_store) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
-  if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
-    // The job dies with the batch: no orphan keeps running or writing after a kill -9.
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != parent) _exit(127);
-    const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (o < 0 || e < 0 || dup2(o, 1) < 0 || dup2(e, 2) < 0) _exit(127);
-    execv(self.c_str(), argv.data());
-    _exit(127);
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) throw std::runtime_error("waitpid failed");
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+int env_int(const char* name) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? std::max(0, std::atoi(v)) : 0;
 }
 
-std::string job_json(const BatchJob& job, const std::string& status, int code, double seconds) {
-  nlohmann::ordered_json j;
-  j["id"] = job.id;
-  j["verb"] = job.verb;
-  j["input"] = job.input.string();
-  j["options"] = job.options;
-  j["manifest_line"] = job.line;
-  j["status"] = status;
-  j["exit_status"] = code;
-  j["seconds"] = seconds;
-  j["host"] = [] {
-    char name[256] = {};
-    gethostname(name, sizeof name - 1);
-    return std::string(name);
-  }();
-  return j.dump(2) + "\n";
-}
-
-// Moves the job's logs beside its outputs.
-void move_logs(const fs::path& from_out, const fs::path& from_err, const fs::path& dir) {
-  fs::rename(from_out, dir / "stdout.txt");
-  fs::rename(from_err, dir / "stderr.txt");
-}
-
-// One job: skipped when OUTDIR/ID exists, otherwise run into a temporary folder and renamed.
-Finished run_job(const BatchJob& job, const fs::path& out) {
-  static std::atomic<int> counter{0};
-  const fs::path final_dir = out / job.id;
-  if (fs::exists(final_dir)) return {Outcome::kSkipped, 0, "done earlier"};
-  const fs::path tmp_root = out / ".tmp";
-  fs::create_directories(tmp_root);
-  const std::string name = fmt::format("{}.{}.{}", job.id, getpid(), counter++);
-  const fs::path tmp = tmp_root / name;
-  const fs::path log_out = tmp_root / (name + ".stdout"), log_err = tmp_root / (name + ".stderr");
-  const auto start = std::chrono::steady_clock::now();
-  const int code = run_child(batch_job_arguments(job, tmp), log_out, log_err);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (code == 0 && fs::is_directory(tmp)) {
-    move_logs(log_out, log_err, tmp);
-    io::write_text_file_atomic(tmp / "job.json", job_json(job, "done", 0, seconds));
-    std::error_code ec;
-    fs::rename(tmp, final_dir, ec);
-    if (ec) fs::remove_all(tmp);  // another run finished it first
-    fs::remove_all(out / ".failed" / job.id);
-    return {Outcome::kDone, seconds, "done"};
-  }
-  const fs::path failed = out / ".failed" / job.id;
-  fs::remove_all(failed);
-  fs::create_directories(failed);
-  move_logs(log_out, log_err, failed);
-  const std::string status =
-      code > 128 ? fmt::format("signal {}", code - 128) : fmt::format("exit {}", code);
-  io::write_text_file_atomic(failed / "job.json", job_json(job, "failed", code, seconds));
-  fs::remove_all(tmp);
-  return {Outcome::kFailed, seconds, status};
-}
-
-// Temporary folders of runs that are no longer alive (a batch killed, a machine lost).
-void remove_stale(const fs::path& out) {
-  const fs::path tmp_root = out / ".tmp";
-  std::error_code ec;
-  if (!fs::is_directory(tmp_root, ec)) return;
-  for (const auto& e : fs::directory_iterator(tmp_root)) {
-    const std::string n = e.path().filename().string();
-    // ID.PID.K[.stdout|.stderr]: the PID is the second field from the end of the stem.
-    std::string stem = n;
-    for (const char* ext : {".stdout", ".stderr"}) {
-      if (stem.ends_with(ext)) stem.resize(stem.size() - std::string(ext).size());
-    }
-    const auto k = stem.rfind('.');
-    const auto p = k == std::string::npos ? std::string::npos : stem.rfind('.', k - 1);
-    if (p == std::string::npos) continue;
-    const pid_t pid = static_cast<pid_t>(std::atol(stem.substr(p + 1, k - p - 1).c_str()));
-    if (pid > 0 && (kill(pid, 0) == 0 || errno != ESRCH)) continue;
-    fs::remove_all(e.path(), ec);
-  }
-}
-
-std::string tail_of(const fs::path& file, int lines) {
-  std::string text = io::read_file(file);
-  while (!text.empty() && text.back() == '\n') text.pop_back();
-  std::size_t pos = text.size();
-  for (int k = 0; k < lines && pos != std::string::npos && pos > 0; ++k) {
-    pos = text.rfind('\n', pos - 1);
-  }
-  return pos == std::string::npos ? text : text.substr(pos + 1);
+// A job's threads when its options do not say: --threads, else the CPUs Slurm gave the task,
+// else this machine's cores shared among the jobs running at once.
+int threads_per_job(const BatchArgs& a) {
+  if (a.threads > 0) return a.threads;
+  if (const int c = env_int("SLURM_CPUS_PER_TASK"); c > 0) return c;
+  if (const int c = env_int("SLURM_CPUS_ON_NODE"); c > 0 && a.index >= 0) return c;
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::max(1, cores / std::max(1, a.jobs));
 }
 
 // Every job not yet done, `jobs` at a time, with a progress line on a terminal.
-int run_local(const std::vector<BatchJob>& all, const fs::path& out, int jobs, bool quiet) {
+int run_local(const std::vector<BatchJob>& all, const fs::path& out, const BatchArgs& a) {
   remove_stale(out);
   std::vector<const BatchJob*> pending;
   for (const BatchJob& j : all) {
-    if (!fs::exists(out / j.id)) pending.push_back(&j);
+    if (!fs::exists(done_dir(out, j))) pending.push_back(&j);
   }
-  const bool tty = isatty(2) != 0 && !quiet;
+  const int threads = threads_per_job(a);
+  const bool tty = isatty(2) != 0 && !a.quiet;
   std::mutex mutex;
   std::atomic<std::size_t> next{0};
   int done = 0, failed = 0, running = 0;
@@ -188,13 +78,13 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, int jobs, b
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const int finished = done + failed;
-    const double eta = finished > 0 ? s / finished * (pending.size() - finished) / 1.0 : 0.0;
+    const double eta = finished > 0 ? s / finished * (pending.size() - finished) : 0.0;
     if (tty) {
       fmt::print(stderr, "\rbatch: {}/{} done, {} running, {} failed, {:.0f} s, ETA {:.0f} s   ",
                  done, pending.size(), running, failed, s, eta);
       if (!line.empty()) fmt::print(stderr, "\n");
     }
-    if (!line.empty() && !quiet) fmt::print(stderr, "{}\n", line);
+    if (!line.empty() && !a.quiet) fmt::print(stderr, "{}\n", line);
   };
   const auto worker = [&] {
     for (std::size_t k; (k = next++) < pending.size();) {
@@ -204,7 +94,7 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, int jobs, b
         ++running;
         report("");
       }
-      const Finished f = run_job(job, out);
+      const Finished f = run_job(job, out, threads);
       const std::lock_guard lock(mutex);
       --running;
       if (f.outcome == Outcome::kFailed) {
@@ -213,48 +103,71 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, int jobs, b
         report(fmt::format("batch: {} failed ({}, {:.1f} s)", job.id, f.status, f.seconds));
       } else {
         ++done;
-        report(tty ? "" : fmt::format("batch: {} done ({:.1f} s)", job.id, f.seconds));
+        report(tty ? "" : fmt::format("batch: {} {} ({:.1f} s)", job.id, f.status, f.seconds));
       }
     }
   };
-  std::vector<std::thread> threads;
-  for (int t = 0; t < std::min<int>(jobs, static_cast<int>(pending.size())); ++t) {
-    threads.emplace_back(worker);
+  std::vector<std::thread> pool;
+  for (int t = 0; t < std::min<int>(a.jobs, static_cast<int>(pending.size())); ++t) {
+    pool.emplace_back(worker);
   }
-  for (std::thread& t : threads) t.join();
+  for (std::thread& t : pool) t.join();
   if (tty) fmt::print(stderr, "\n");
   for (const BatchJob* j : failures) {
     fmt::print(stderr, "batch: failed: {} (manifest line {}): {}\n", j->id, j->line,
-               tail_of(out / ".failed" / j->id / "stderr.txt", 3));
+               tail_of(failed_dir(out, *j) / "stderr.txt", 3));
   }
-  if (!quiet) {
+  if (!a.quiet) {
     fmt::print("batch: {} jobs: {} done now, {} done earlier, {} failed; {}\n", all.size(), done,
                all.size() - pending.size(), failed, out.string());
   }
   return failed > 0 ? 1 : 0;
 }
 
-int run_batch(const BatchArgs& a) {
-  const std::vector<BatchJob> jobs = read_batch_manifest(a.manifest);
+void check_args(const BatchArgs& a, std::size_t jobs, const std::string& manifest) {
   if (a.jobs < 1 || a.jobs > kMaxThreads) {
     throw InputError(fmt::format("--jobs: must be in [1, {}]", kMaxThreads));
   }
-  if (a.index >= static_cast<int>(jobs.size())) {
-    throw InputError(fmt::format("--index: {} jobs in {}, so at most {}", jobs.size(), a.manifest,
-                                 jobs.size() - 1));
+  if (a.threads < 0 || a.threads > kMaxThreads) {
+    throw InputError(fmt::format("--threads: must be in [0, {}]", kMaxThreads));
   }
+  if (a.index >= static_cast<int>(jobs)) {
+    throw InputError(
+        fmt::format("--index: {} jobs in {}, so at most {}", jobs, manifest, jobs - 1));
+  }
+}
+
+int run_batch(const BatchArgs& a) {
+  if (a.summary) {
+    if (!a.out.empty()) throw InputError("--summary: name the output directory alone, no -o");
+    return summarise_batch(a.manifest, a.quiet);
+  }
+  if (a.out.empty()) throw InputError("-o,--output: required (the output directory)");
+  if (!fs::is_regular_file(a.manifest)) {
+    throw InputError(fmt::format("{}: no such manifest", a.manifest));
+  }
+  const std::vector<BatchJob> jobs = read_batch_manifest(a.manifest);
+  check_args(a, jobs.size(), a.manifest);
   const fs::path out(a.out);
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError(fmt::format("{}: cannot create", a.out));
+  record_jobs(out, a.manifest, jobs);
+  if (a.slurm) return submit_slurm(jobs, a.manifest, out, a.submission);
   if (a.index >= 0) {
-    const Finished f = run_job(jobs[static_cast<std::size_t>(a.index)], out);
-    if (!a.quiet) {
-      fmt::print("batch: {}: {}\n", jobs[static_cast<std::size_t>(a.index)].id, f.status);
+    forward_termination_signals();  // scancel: the job ends as failed, its record kept
+    remove_stale(out);
+    const BatchJob& job = jobs[static_cast<std::size_t>(a.index)];
+    const Finished f = run_job(job, out, threads_per_job(a));
+    if (!a.quiet) fmt::print("batch: {}: {} ({:.1f} s)\n", job.id, f.status, f.seconds);
+    if (f.outcome == Outcome::kFailed) {
+      fmt::print(stderr, "batch: failed: {} (manifest line {}): {}\n", job.id, job.line,
+                 tail_of(failed_dir(out, job) / "stderr.txt", 3));
+      return 1;
     }
-    return f.outcome == Outcome::kFailed ? 1 : 0;
+    return 0;
   }
-  return run_local(jobs, out, a.jobs, a.quiet);
+  return run_local(jobs, out, a);
 }
 
 }  // namespace
@@ -262,16 +175,41 @@ int run_batch(const BatchArgs& a) {
 Verb register_batch(CLI::App& app) {
   auto a = std::make_shared<BatchArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "batch", "Run the jobs of a manifest (JSON lines: id, verb, input, options), N at a time");
-  cmd->add_option("manifest", a->manifest, "Manifest: one JSON object a line")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", a->out, "Output directory: one folder per job")->required();
-  cmd->add_option("--jobs", a->jobs, "Jobs at a time")->capture_default_str();
-  cmd->add_option("--index", a->index, "Run job I (from 0) alone: a job array's task")
-      ->check(CLI::NonNegativeNumber);
+      "batch",
+      "Run the jobs of a manifest (JSON lines: id, verb, input, options) here, N at a time, or "
+      "as a Slurm job array; or summarise an output directory");
+  cmd->add_option("manifest", a->manifest,
+                  "Manifest: one JSON object a line (with --summary: the output directory)")
+      ->required();
+  cmd->add_option("-o,--output", a->out, "Output directory: one folder per job");
+  cmd->add_option("--jobs", a->jobs, "Jobs at a time on this machine")->capture_default_str();
+  cmd->add_option("--threads", a->threads,
+                  "Threads of each job whose options do not say (0: the CPUs of a Slurm task, "
+                  "else this machine's cores / --jobs)")
+      ->capture_default_str();
+  CLI::Option* index =
+      cmd->add_option("--index", a->index, "Run job I (from 0) alone: a job array's task")
+          ->check(CLI::NonNegativeNumber);
+  CLI::Option* slurm = cmd->add_flag(
+      "--slurm", a->slurm, "Submit the jobs not done (nor queued) as one Slurm job array (sbatch)");
+  cmd->add_option("--array-limit", a->submission.array_limit,
+                  "With --slurm: tasks running at once (the array's %K; 0: no limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(slurm);
+  cmd->add_option("--sbatch-args", a->submission.sbatch_args,
+                  "With --slurm: more sbatch options, e.g. \"--partition=cpu --time=2:00:00 "
+                  "--cpus-per-task=4\"")
+      ->needs(slurm);
+  CLI::Option* summary = cmd->add_flag(
+      "--summary", a->summary,
+      "Summarise OUTDIR (given in place of the manifest): summary.csv, summary.json, summary.png");
+  slurm->excludes(index)->excludes(summary);
+  index->excludes(summary);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress or summary lines");
-  return {cmd, [a] { return run_batch(*a); }};
+  return {cmd, [a] {
+            a->submission.quiet = a->quiet;
+            return run_batch(*a);
+          }};
 }
 
 }  // namespace fuzzycsg::app

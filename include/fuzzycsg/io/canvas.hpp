@@ -45,6 +45,14 @@ class Pixels {
   std::vector<Rgb> px_;
 };
 
+// A PNG's (or JPEG's, BMP's) pixels as RGB, alpha composed over white; InputError naming
+// `name` when the bytes are not a picture stb_image reads.
+Pixels decode_picture(std::string_view bytes, const std::string& name);
+
+// The picture scaled to width x height by area averaging (a box filter: a thumbnail without the
+// aliasing of nearest neighbour).
+Pixels resized(const Pixels& p, int width, int height);
+
 enum class PictureFormat { kPng, kSvg, kPdf };
 
 // The format a file's extension names (.png, .svg, .pdf, in any case); none for another.
