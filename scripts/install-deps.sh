@@ -18,6 +18,9 @@ packages=(
   # matplotlib draws the generative model's pictures (and bench/fig12_pareto.py's).
   python3 python3-dev pybind11-dev python3-numpy python3-pytest python3-torch libopenblas0-pthread
   python3-matplotlib
+  # Slurm and munge: the batch verb's test starts a single-node cluster on localhost
+  # (tests/apps/slurm_cluster.sh); no service is enabled or configured in /etc.
+  slurm-wlm munge
 )
 
 missing=()

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include "batch_summary.hpp"
 #include "commands.hpp"
@@ -95,6 +96,62 @@ BatchJob read_job(const json& j, int line, const std::filesystem::path& base,
   return job;
 }
 
+// One CSV record on one line (RFC 4180 quoting: "a ""b"", c" is one field). Written here rather
+// than taken from a CSV library: a manifest's record is one line of four short fields.
+std::vector<std::string> csv_fields(const std::string& text, const std::string& where) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (quoted) {
+      if (c != '"') {
+        fields.back() += c;
+      } else if (i + 1 < text.size() && text[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else {
+        quoted = false;
+      }
+    } else if (c == '"' && fields.back().empty()) {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else if (c != '\r') {
+      fields.back() += c;
+    }
+  }
+  if (quoted) throw InputError(where + ": a quoted field is not closed");
+  return fields;
+}
+
+// A CSV record as the JSON object of a JSON-lines manifest: options split at blanks.
+json csv_job(const std::vector<std::string>& header, const std::vector<std::string>& fields,
+             const std::string& where) {
+  if (fields.size() != header.size()) {
+    throw InputError(
+        fmt::format("{}: {} fields, the header has {}", where, fields.size(), header.size()));
+  }
+  json j = json::object();
+  for (std::size_t k = 0; k < header.size(); ++k) {
+    if (header[k] != "options") {
+      j[header[k]] = fields[k];
+      continue;
+    }
+    json options = json::array();
+    std::istringstream words(fields[k]);
+    for (std::string w; words >> w;) options.push_back(w);
+    j["options"] = options;
+  }
+  return j;
+}
+
+bool is_csv(const std::filesystem::path& manifest) {
+  std::string ext = manifest.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext == ".csv";
+}
+
 }  // namespace
 
 std::vector<std::string> batch_job_arguments(const BatchJob& job,
@@ -110,16 +167,35 @@ std::vector<BatchJob> read_batch_manifest(const std::filesystem::path& manifest)
   const std::filesystem::path base = manifest.parent_path();
   std::vector<BatchJob> jobs;
   std::set<std::string> ids;
+  const bool csv = is_csv(manifest);
+  std::vector<std::string> header;  // CSV: the columns
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
     const auto first = text.find_first_not_of(" \t\r");
     if (first == std::string::npos || text[first] == '#') continue;  // blank lines, comments
     const std::string where = fmt::format("{}:{}", manifest.string(), line);
     json j;
-    try {
-      j = json::parse(text);
-    } catch (const json::parse_error& e) {
-      throw InputError(fmt::format("{}: not JSON ({})", where, e.what()));
+    if (csv && header.empty()) {
+      header = csv_fields(text, where);
+      for (const std::string& column : header) {
+        if (column != "id" && column != "verb" && column != "input" && column != "options") {
+          throw InputError(
+              fmt::format("{}: {}: unknown column (id, verb, input, options)", where, column));
+        }
+        if (std::count(header.begin(), header.end(), column) > 1) {
+          throw InputError(fmt::format("{}: {}: a column named twice", where, column));
+        }
+      }
+      continue;
+    }
+    if (csv) {
+      j = csv_job(header, csv_fields(text, where), where);
+    } else {
+      try {
+        j = json::parse(text);
+      } catch (const json::parse_error& e) {
+        throw InputError(fmt::format("{}: not JSON ({})", where, e.what()));
+      }
     }
     BatchJob job = read_job(j, line, base, where);
     if (!ids.insert(job.id).second) {

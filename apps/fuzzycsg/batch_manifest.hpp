@@ -2,6 +2,10 @@
 // The manifest of `fuzzycsg batch`: one job a line, as JSON lines,
 //   {"id": "bracket-s1", "verb": "convert", "input": "parts/bracket.stl", "options": ["--seed",
 //   "1"]}
+// or, for a manifest named *.csv, CSV with a header naming the columns (id, verb, input and
+// optionally options: the flags separated by blanks),
+//   id,verb,input,options
+//   bracket-s1,convert,parts/bracket.stl,--seed 1
 // Relative input paths resolve against the manifest's folder. The whole manifest is checked
 // before any job runs: ids (letters, digits, '.', '_', '-'; unique), verbs (convert, fit, trace,
 // refine), inputs (existing files) and options (parsed by the verb's own command line) — an

@@ -94,6 +94,48 @@ if [[ $rc -eq 1 && -f "$tmp/f/ok/job.json" && ! -e "$tmp/f/bad" && -s "$tmp/f/.f
     grep -q "failed: bad (manifest line 2)" "$tmp/f.err"; then ok
 else bad "a failing job (rc $rc): $(cat "$tmp/f.err")"; fi
 
+# The summary: a row per job of the manifest (done, failed, pending) with its measures, totals,
+# and a contact sheet.
+if "$bin" batch "$tmp/f" --summary >"$tmp/sum.out" && "$bin" batch "$tmp/one" --summary -q &&
+    grep -q "2 jobs: 1 done, 1 failed, 0 pending" "$tmp/sum.out" &&
+    python3 - "$tmp" <<'PY'
+import csv, json, os, struct, sys
+tmp = sys.argv[1]
+rows = {r["id"]: r for r in csv.DictReader(open(os.path.join(tmp, "f", "summary.csv")))}
+assert rows["ok"]["status"] == "done" and 0 <= float(rows["ok"]["iou"]) <= 1, rows
+assert int(rows["ok"]["primitives"]) >= 1 and float(rows["ok"]["seconds"]) > 0, rows
+assert rows["bad"]["status"] == "failed" and "exit 2" in rows["bad"]["error"], rows
+s = json.load(open(os.path.join(tmp, "f", "summary.json")))
+assert s["totals"]["done"] == 1 and s["totals"]["failed"] == 1 and s["worst"] == ["ok"], s
+one = json.load(open(os.path.join(tmp, "one", "summary.json")))
+assert one["totals"] == {**one["totals"], "jobs": 8, "done": 1, "pending": 7}, one["totals"]
+assert [j["status"] for j in one["jobs"]].count("pending") == 7
+png = open(os.path.join(tmp, "one", "summary.png"), "rb").read()
+assert png[:8] == b"\x89PNG\r\n\x1a\n"
+w, h = struct.unpack(">II", png[16:24])
+assert w > 4 * 320 and h > 2 * 150, (w, h)  # four columns, two rows of cells for 8 jobs
+PY
+then ok; else bad "--summary: $(cat "$tmp/sum.out")"; fi
+expect_error 'nothing: not a batch.s output directory' "$bin" batch "$tmp/nothing" --summary
+expect_error '--summary: name the output directory alone' "$bin" batch "$tmp/f" --summary -o "$tmp/x"
+
+# A CSV manifest: a header naming the columns, options separated by blanks, quoted fields.
+printf '%s\n' 'id,input,verb,options' \
+  'c1,parts/disc.json,fit,"--prims 4 --iters 50 --seed 7 -q"' \
+  '"c2",parts/disc.json,fit,--prims 2 --iters 50 -q' >"$tmp/m.csv"
+if "$bin" batch "$tmp/m.csv" -o "$tmp/csv" --jobs 2 -q &&
+    python3 - "$tmp/csv" <<'PY'
+import json, os, sys
+out = sys.argv[1]
+assert json.load(open(os.path.join(out, "c1", "report.json")))["seed"] == 7
+assert json.load(open(os.path.join(out, "c2", "job.json")))["options"][:2] == ["--prims", "2"]
+PY
+then ok; else bad "a CSV manifest"; fi
+printf 'id,verb,input,colour\n' >"$tmp/bad.csv"
+expect_error 'bad.csv:1: colour: unknown column' "$bin" batch "$tmp/bad.csv" -o "$tmp/never"
+printf 'id,verb,input\na,fit\n' >"$tmp/bad.csv"
+expect_error 'bad.csv:2: 2 fields, the header has 3' "$bin" batch "$tmp/bad.csv" -o "$tmp/never"
+
 # Bad manifests: one line naming the manifest's line, exit 2, nothing run or written.
 check_refused() {
   local pattern=$1 text=$2
