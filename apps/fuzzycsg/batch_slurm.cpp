@@ -1,6 +1,7 @@
 #include "batch_slurm.hpp"
 
 #include <fmt/format.h>
+#include <pwd.h>
 #include <unistd.h>
 
 #include <ctime>
@@ -12,6 +13,7 @@
 #include "batch_run.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/files.hpp"
+#include "support.hpp"
 
 namespace fuzzycsg::app {
 
@@ -68,6 +70,17 @@ std::vector<std::string> split_words(const std::string& s) {
   return words;
 }
 
+// One of Slurm's commands, run to completion; Error when it is not on PATH.
+Captured slurm_command(const std::string& program, const std::vector<std::string>& args,
+                       const fs::path& out) {
+  Captured c = run_captured(program, args, slurm_dir(out) / "scratch");
+  if (c.status == 127 && c.err.empty()) {
+    throw CommandError(fmt::format(
+        "{}: not found on PATH (--slurm runs Slurm's sbatch, squeue and scontrol)", program));
+  }
+  return c;
+}
+
 // Manifest entries of earlier submissions still in Slurm's queue (pending or running).
 std::set<int> queued_entries(const fs::path& out) {
   const fs::path record = slurm_dir(out) / "submissions.jsonl";
@@ -79,17 +92,18 @@ std::set<int> queued_entries(const fs::path& out) {
     if (line.empty()) continue;
     const auto j = nlohmann::json::parse(line, nullptr, false);
     if (j.is_discarded() || !j.contains("job") || !j.contains("offset")) {
-      throw Error(fmt::format("{}: a line that is not a submission record", record.string()));
+      throw InputError(fmt::format("{}: a line that is not a submission record", record.string()));
     }
     offsets[j["job"].get<std::string>()] = j["offset"].get<int>();
   }
-  const char* user = std::getenv("USER");
-  const Captured q = run_captured(
+  const passwd* user = getpwuid(getuid());
+  const Captured q = slurm_command(
       "squeue",
-      {"-h", "-r", "-u", user != nullptr ? user : std::to_string(getuid()), "-o", "%F %K"},
-      slurm_dir(out) / "scratch");
+      {"-h", "-r", "-u", user != nullptr ? user->pw_name : std::to_string(getuid()), "-o", "%F %K"},
+      out);
   if (q.status != 0) {
-    throw Error(fmt::format("squeue failed (exit status {}): {}", q.status, tail_of_text(q.err)));
+    throw CommandError(
+        fmt::format("squeue failed (exit status {}): {}", q.status, tail_of_text(q.err)));
   }
   std::set<int> queued;
   std::istringstream lines(q.out);
@@ -106,7 +120,7 @@ std::set<int> queued_entries(const fs::path& out) {
 }
 
 int max_array_size(const fs::path& out) {
-  const Captured c = run_captured("scontrol", {"show", "config"}, slurm_dir(out) / "scratch");
+  const Captured c = slurm_command("scontrol", {"show", "config"}, out);
   std::istringstream in(c.out);
   for (std::string line; std::getline(in, line);) {
     if (!line.starts_with("MaxArraySize")) continue;
@@ -131,11 +145,11 @@ std::string submit_array(const fs::path& out, const fs::path& script, const std:
   for (const std::string& w : split_words(s.sbatch_args)) args.push_back(w);
   args.push_back(script.string());
   args.push_back(std::to_string(offset));
-  const Captured c = run_captured("sbatch", args, slurm_dir(out) / "scratch");
+  const Captured c = slurm_command("sbatch", args, out);
   std::string id = c.out.substr(0, c.out.find_first_of(";\n"));
   if (c.status != 0 || id.empty()) {
-    throw Error(fmt::format("sbatch failed (exit status {}): {}", c.status,
-                            tail_of_text(c.err.empty() ? c.out : c.err)));
+    throw CommandError(fmt::format("sbatch failed (exit status {}): {}", c.status,
+                                   tail_of_text(c.err.empty() ? c.out : c.err)));
   }
   nlohmann::ordered_json record{{"job", id},
                                 {"offset", offset},

@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "support.hpp"
 
 int main(int argc, char** argv) {
   // --threads may ask for more threads than this machine has cores (up to kMaxThreads): oneTBB
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
   } catch (const fuzzycsg::InputError& e) {
     fmt::print(stderr, "fuzzycsg: error: {}\n", e.what());
     return 2;
+  } catch (const fuzzycsg::app::CommandError& e) {
+    fmt::print(stderr, "fuzzycsg: error: {}\n", e.what());
+    return 1;
   } catch (const std::bad_alloc&) {
     fmt::print(stderr, "fuzzycsg: error: out of memory\n");
     return 1;

@@ -3,9 +3,11 @@
 // the options spelled the same by every verb.
 
 #include <CLI/CLI.hpp>
+
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include "fuzzycsg/core/error.hpp"
 
 namespace fuzzycsg::app {
 
@@ -23,6 +25,13 @@ std::string flag_for(const std::string& field);
 
 // Whether the path's extension, lower-cased, is one of `exts` (each with its dot: ".csg").
 bool has_extension(const std::string& path, std::initializer_list<const char*> exts);
+
+// A program the verb runs (sbatch, squeue) is missing or failed: one line on stderr,
+// `fuzzycsg: error: ...`, exit status 1 (not bad input, and not an internal error).
+class CommandError : public Error {
+ public:
+  using Error::Error;
+};
 
 // The most threads a verb accepts: oneTBB's own limit on the threads of one arena.
 inline constexpr int kMaxThreads = 256;

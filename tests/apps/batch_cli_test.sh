@@ -136,6 +136,12 @@ expect_error 'bad.csv:1: colour: unknown column' "$bin" batch "$tmp/bad.csv" -o 
 printf 'id,verb,input\na,fit\n' >"$tmp/bad.csv"
 expect_error 'bad.csv:2: 2 fields, the header has 3' "$bin" batch "$tmp/bad.csv" -o "$tmp/never"
 
+# --slurm without Slurm's commands: one line saying so, exit status 1.
+PATH=/nonexistent "$bin" batch "$tmp/m.jsonl" -o "$tmp/noslurm" --slurm >"$tmp/ns.out" 2>"$tmp/ns.err"
+rc=$?
+if [[ $rc -eq 1 && $(wc -l <"$tmp/ns.err") -eq 1 ]] && grep -qE "^fuzzycsg: error: (sbatch|squeue|scontrol): not found on PATH" "$tmp/ns.err"; then ok
+else bad "--slurm without Slurm: rc $rc, $(cat "$tmp/ns.err")"; fi
+
 # Bad manifests: one line naming the manifest's line, exit 2, nothing run or written.
 check_refused() {
   local pattern=$1 text=$2
