@@ -134,11 +134,9 @@ Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
   fs::remove_all(failed);
   fs::create_directories(failed);
   keep_logs(failed);
-  const std::string status =
-      code > 128 ? fmt::format("signal {}", code - 128) : fmt::format("exit {}", code);
   io::write_text_file_atomic(failed / "job.json", job_json(job, "failed", code, seconds));
   fs::remove_all(tmp);
-  return {Outcome::kFailed, seconds, status};
+  return {Outcome::kFailed, seconds, exit_status_text(code)};
 }
 
 void forward_termination_signals() {
@@ -170,13 +168,19 @@ void remove_stale(const fs::path& out) {
   }
 }
 
+std::string exit_status_text(int code) {
+  return code > 128 ? fmt::format("signal {}", code - 128) : fmt::format("exit {}", code);
+}
+
 std::string tail_of(const fs::path& file, int lines) {
-  std::string text;
   try {
-    text = io::read_file(file);
+    return last_lines(io::read_file(file), lines);
   } catch (const std::exception&) {
     return "";
   }
+}
+
+std::string last_lines(std::string text, int lines) {
   while (!text.empty() && text.back() == '\n') text.pop_back();
   // The start of the last `lines` lines: after the lines-th newline from the end, if any.
   std::size_t start = text.size();

@@ -37,8 +37,13 @@ void forward_termination_signals();
 // Removes this host's temporary folders of runs that are no longer alive.
 void remove_stale(const std::filesystem::path& out);
 
-// The last `lines` lines of a text file ("" when it cannot be read).
+// The last `lines` lines of a text, without its final newlines; of a text file ("" when it cannot
+// be read).
+std::string last_lines(std::string text, int lines);
 std::string tail_of(const std::filesystem::path& file, int lines);
+
+// A job's exit status as job.json records it, in words: "exit 3", or "signal 15" past 128.
+std::string exit_status_text(int code);
 
 // A program run to completion with its output captured.
 struct Captured {

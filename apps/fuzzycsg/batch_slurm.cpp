@@ -32,14 +32,6 @@ std::string shell_quote(const std::string& s) {
 
 fs::path slurm_dir(const fs::path& out) { return out / ".slurm"; }
 
-// The last line of a command's output.
-std::string tail_of_text(const std::string& text) {
-  std::string t = text;
-  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
-  const auto nl = t.rfind('\n');
-  return nl == std::string::npos ? t : t.substr(nl + 1);
-}
-
 std::string sbatch_script(const fs::path& manifest, const fs::path& out) {
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const fs::path logs = slurm_dir(out) / "logs";
@@ -91,7 +83,8 @@ std::set<int> queued_entries(const fs::path& out) {
   for (std::string line; std::getline(in, line);) {
     if (line.empty()) continue;
     const auto j = nlohmann::json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.contains("job") || !j.contains("offset")) {
+    if (!j.is_object() || !j.contains("job") || !j["job"].is_string() || !j.contains("offset") ||
+        !j["offset"].is_number_integer()) {
       throw InputError(fmt::format("{}: a line that is not a submission record", record.string()));
     }
     offsets[j["job"].get<std::string>()] = j["offset"].get<int>();
@@ -103,7 +96,7 @@ std::set<int> queued_entries(const fs::path& out) {
       out);
   if (q.status != 0) {
     throw CommandError(
-        fmt::format("squeue failed (exit status {}): {}", q.status, tail_of_text(q.err)));
+        fmt::format("squeue failed (exit status {}): {}", q.status, last_lines(q.err, 1)));
   }
   std::set<int> queued;
   std::istringstream lines(q.out);
@@ -149,7 +142,7 @@ std::string submit_array(const fs::path& out, const fs::path& script, const std:
   std::string id = c.out.substr(0, c.out.find_first_of(";\n"));
   if (c.status != 0 || id.empty()) {
     throw CommandError(fmt::format("sbatch failed (exit status {}): {}", c.status,
-                                   tail_of_text(c.err.empty() ? c.out : c.err)));
+                                   last_lines(c.err.empty() ? c.out : c.err, 1)));
   }
   nlohmann::ordered_json record{{"job", id},
                                 {"offset", offset},
@@ -212,10 +205,8 @@ int submit_slurm(const std::vector<BatchJob>& jobs, const fs::path& manifest, co
     if (fs::exists(failed / "job.json")) {
       const auto j = nlohmann::json::parse(io::read_file(failed / "job.json"), nullptr, false);
       const std::string status =
-          j.is_object() && j.contains("exit_status")
-              ? (j["exit_status"].get<int>() > 128
-                     ? fmt::format("signal {}", j["exit_status"].get<int>() - 128)
-                     : fmt::format("exit {}", j["exit_status"].get<int>()))
+          j.is_object() && j.contains("exit_status") && j["exit_status"].is_number_integer()
+              ? exit_status_text(j["exit_status"].get<int>())
               : "failed";
       fmt::print(stderr, "batch: again: {} (manifest line {}) failed earlier ({}): {}\n", job.id,
                  job.line, status, tail_of(failed / "stderr.txt", 1));

@@ -33,7 +33,7 @@ std::optional<json> read_json(const fs::path& file) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) return std::nullopt;
   json j = json::parse(io::read_file(file), nullptr, false);
-  if (j.is_discarded()) return std::nullopt;
+  if (!j.is_object()) return std::nullopt;  // unreadable, or not a record
   return j;
 }
 
@@ -89,15 +89,13 @@ JobRow row_of(const json& job, const fs::path& out) {
     r.status = status;
     r.dir = dir;
     r.seconds = number_at(*record, "/seconds");
-    r.host = record->value("host", "");
+    const json host = record->value("host", json());
+    r.host = host.is_string() ? host.get<std::string>() : "";
     if (r.status == "done") {
       read_measures(r);
     } else {
-      const int code = record->value("exit_status", 0);
-      r.error = fmt::format(
-          "{}: {}",
-          code > 128 ? fmt::format("signal {}", code - 128) : fmt::format("exit {}", code),
-          tail_of(dir / "stderr.txt", 1));
+      const int code = static_cast<int>(number_at(*record, "/exit_status").value_or(0));
+      r.error = fmt::format("{}: {}", exit_status_text(code), tail_of(dir / "stderr.txt", 1));
     }
     break;
   }
