@@ -142,8 +142,15 @@ Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
 void forward_termination_signals() {
   struct sigaction sa {};
   sa.sa_handler = [](int signal) {
+    // With a job running, the job ends and is recorded as failed; without, the batch ends here
+    // (before the job starts, or after it ended and before its folder was renamed: it is then
+    // absent, and runs again).
     const pid_t child = g_child.load();
-    if (child > 0) kill(child, signal);
+    if (child > 0) {
+      kill(child, signal);
+    } else {
+      _exit(128 + signal);
+    }
   };
   sigemptyset(&sa.sa_mask);
   for (const int s : {SIGTERM, SIGINT, SIGHUP}) sigaction(s, &sa, nullptr);

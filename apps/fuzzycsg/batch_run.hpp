@@ -30,8 +30,9 @@ std::filesystem::path failed_dir(const std::filesystem::path& out, const BatchJo
 Finished run_job(const BatchJob& job, const std::filesystem::path& out, int threads);
 
 // Signals that end a batch (SIGTERM from `scancel` or a scheduler's preemption, SIGINT, SIGHUP)
-// are passed on to the job running in this process, which then ends as failed ("signal 15"):
-// for a process that runs one job at a time (--index).
+// are passed on to the job running in this process, which then ends as failed ("signal 15");
+// with no job running, the process exits at once (128 + the signal). For a process that runs
+// one job at a time (--index).
 void forward_termination_signals();
 
 // Removes this host's temporary folders of runs that are no longer alive.
