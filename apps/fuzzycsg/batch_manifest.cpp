@@ -12,6 +12,7 @@
 #include "batch_summary.hpp"
 #include "commands.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "support.hpp"
 
 namespace fuzzycsg::app {
 
@@ -145,13 +146,6 @@ json csv_job(const std::vector<std::string>& header, const std::vector<std::stri
   return j;
 }
 
-bool is_csv(const std::filesystem::path& manifest) {
-  std::string ext = manifest.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext == ".csv";
-}
-
 }  // namespace
 
 std::vector<std::string> batch_job_arguments(const BatchJob& job,
@@ -167,7 +161,7 @@ std::vector<BatchJob> read_batch_manifest(const std::filesystem::path& manifest)
   const std::filesystem::path base = manifest.parent_path();
   std::vector<BatchJob> jobs;
   std::set<std::string> ids;
-  const bool csv = is_csv(manifest);
+  const bool csv = has_extension(manifest.string(), {".csv"});
   std::vector<std::string> header;  // CSV: the columns
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
