@@ -105,8 +105,14 @@ JobRow row_of(const json& job, const fs::path& out) {
 // The jobs as the batch recorded them, or (no record) the folders there are.
 std::vector<JobRow> collect(const fs::path& out) {
   std::vector<JobRow> rows;
-  if (const auto recorded = read_json(out / ".batch" / "jobs.json")) {
-    for (const json& job : recorded->value("jobs", json::array())) rows.push_back(row_of(job, out));
+  const fs::path jobs_file = out / ".batch" / "jobs.json";
+  if (const auto recorded = read_json(jobs_file)) {
+    try {
+      for (const json& job : recorded->at("jobs")) rows.push_back(row_of(job, out));
+    } catch (const json::exception& e) {
+      throw InputError(
+          fmt::format("{}: jobs: not the batch's record ({})", jobs_file.string(), e.what()));
+    }
     return rows;
   }
   for (const fs::path& parent : {out, out / ".failed"}) {
@@ -116,7 +122,12 @@ std::vector<JobRow> collect(const fs::path& out) {
       const auto record = read_json(e.path() / "job.json");
       if (!record || e.path().filename().string().front() == '.') continue;
       if (parent != out && fs::exists(out / e.path().filename())) continue;
-      rows.push_back(row_of(*record, out));
+      try {
+        rows.push_back(row_of(*record, out));
+      } catch (const json::exception& x) {
+        throw InputError(
+            fmt::format("{}: not a job's record ({})", (e.path() / "job.json").string(), x.what()));
+      }
     }
   }
   std::sort(rows.begin(), rows.end(), [](const JobRow& a, const JobRow& b) { return a.id < b.id; });

@@ -118,6 +118,10 @@ PY
 then ok; else bad "--summary: $(cat "$tmp/sum.out")"; fi
 expect_error 'nothing: not a batch.s output directory' "$bin" batch "$tmp/nothing" --summary
 expect_error '--summary: name the output directory alone' "$bin" batch "$tmp/f" --summary -o "$tmp/x"
+# A damaged record of the jobs: one line naming it, exit 2.
+cp -r "$tmp/one" "$tmp/damaged"
+echo '{"jobs": [3]}' >"$tmp/damaged/.batch/jobs.json"
+expect_error 'damaged/.batch/jobs.json: jobs: not the batch.s record' "$bin" batch "$tmp/damaged" --summary
 
 # A CSV manifest: a header naming the columns, options separated by blanks, quoted fields.
 printf '%s\n' 'id,input,verb,options' \
