@@ -20,6 +20,7 @@
 #include "fuzzycsg/convert/convert.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/io/files.hpp"
+#include "fuzzycsg/io/output_dir.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/render/render.hpp"
 #include "fuzzycsg/scad/scad.hpp"
@@ -82,15 +83,19 @@ int run_convert_job(const ConvertJob& a) {
   if (!std::filesystem::is_regular_file(a.target)) {
     throw InputError(a.target + ": no such file");
   }
+  // The folder is checked before the work and replaced as a set after it.
+  std::vector<std::string> names{"tree.json", "model.scad", "report.json", "render.png",
+                                 "diagram.svg"};
+  for (const auto& file : a.also_write) names.push_back(file.first);
+  io::OutputDir out(a.out_dir, names);
+  out.check();
   const StagePrinter printer(a.quiet);
   convert::ConvertHooks hooks;
   hooks.progress = [&printer](const convert::ConvertProgress& p) { printer(p); };
   const convert::ConvertResult r = convert::convert(a.target, a.options, hooks);
   printer.done();
 
-  prepare_output_dir(a.out_dir);
-  const std::filesystem::path dir(a.out_dir);
-  io::write_text_file_atomic(dir / "tree.json", io::write_tree_string(r.tree));
+  out.add("tree.json", io::write_tree_string(r.tree));
   scad::ExportOptions eo;
   eo.threads = a.options.threads;
   eo.source = std::filesystem::path(a.target).filename().string();
@@ -102,12 +107,14 @@ int run_convert_job(const ConvertJob& a) {
   eo.note = fmt::format("IoU {:.4f} against the {}{}; settings and measures in report.json.",
                         r.metrics.iou, against,
                         r.chamfer ? fmt::format(", Chamfer distance {:.3g}", *r.chamfer) : "");
-  scad::write_scad(r.tree, r.tree.params.values(), dir / "model.scad", eo);
-  io::write_text_file_atomic(dir / "report.json", convert::report_json(r, a.options));
-  io::write_text_file_atomic(dir / "render.png", comparison_png(a, r));
+  out.add("model.scad", scad::export_scad(r.tree, r.tree.params.values(), eo));
+  out.add("report.json", convert::report_json(r, a.options));
+  out.add("render.png", comparison_png(a, r));
 #if FUZZYCSG_HAVE_DIAGRAM
-  write_diagram(r.tree, dir / "diagram.svg");
+  out.add("diagram.svg", render_dot(diagram_dot(r.tree), DiagramFormat::kSvg));
 #endif
+  for (const auto& [name, bytes] : a.also_write) out.add(name, bytes);
+  out.commit();
   if (!r.reached || r.time_limit_reached) {
     fmt::print(
         stderr, "convert: {}: {}{}; the best tree found is written\n", a.target,

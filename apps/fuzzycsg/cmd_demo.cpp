@@ -10,6 +10,7 @@
 // respect to the parameters from one backward pass, each beside its analytic value.
 
 #include <fmt/format.h>
+#include <stdlib.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +24,7 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 
@@ -80,17 +82,31 @@ std::filesystem::path write_part(const DemoArgs& a) {
 }
 
 int run_convert_demo(const DemoArgs& a) {
-  const std::filesystem::path part = write_part(a);
+  namespace fs = std::filesystem;
+  // The part is written beside its conversion, as one set with it; it is converted from a
+  // scratch copy of its mesh.
+  std::string scratch_template = (fs::temp_directory_path() / "fuzzycsg-demo.XXXXXX").string();
+  if (::mkdtemp(scratch_template.data()) == nullptr) {
+    throw InputError(fmt::format("{}: cannot create a scratch folder", scratch_template));
+  }
+  const fs::path scratch(scratch_template);
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{scratch};
   const Tree tree = io::read_tree_string(kPart, "built-in part");
   MeshOptions mo;
   mo.resolution = 160;
   mo.threads = a.threads;
-  const std::filesystem::path mesh = std::filesystem::path(a.out) / "part.obj";
+  const fs::path mesh = scratch / "part.obj";
   write_mesh(extract_mesh(tree, tree.params.values(), mo), mesh);
   fmt::print(
       "demo: the target is a bracket built from 6 primitives ({}), as a mesh ({}); converted "
       "below to a CSG program\n",
-      part.string(), mesh.string());
+      (fs::path(a.out) / "part.json").string(), (fs::path(a.out) / "part.obj").string());
   ConvertJob job;
   job.target = mesh.string();
   job.out_dir = a.out;
@@ -98,6 +114,7 @@ int run_convert_demo(const DemoArgs& a) {
   job.options.threads = a.threads;
   job.options.metrics.threads = a.threads;
   job.options.metrics.seed = a.seed;
+  job.also_write = {{"part.json", io::write_tree_string(tree)}, {"part.obj", io::read_file(mesh)}};
   return run_convert_job(job);
 }
 

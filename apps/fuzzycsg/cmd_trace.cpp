@@ -203,7 +203,13 @@ int run_trace(const TraceArgs& a) {
   ro.k = options.local.k;
   ro.seed = options.seed;
   ro.threads = options.threads;
-  if (a.refine) trace::validate(ro);
+  if (a.refine) {
+    try {
+      trace::validate(ro);
+    } catch (const OptionError& e) {  // the verb's flags for them are --refine-*
+      throw OptionError("refine_" + e.field(), e.problem());
+    }
+  }
   const Bitmap target = trace::read_bitmap(a.bitmap);
   trace::check_traceable(target, a.bitmap);
   const fs::path out(a.out_dir);

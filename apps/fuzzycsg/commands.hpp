@@ -55,6 +55,8 @@ struct ConvertJob {
   std::string target, out_dir;
   convert::ConvertOptions options;
   bool quiet = false;
+  // More files of the output set (name, bytes): the demo's part beside its conversion.
+  std::vector<std::pair<std::string, std::string>> also_write;
 };
 int run_convert_job(const ConvertJob& job);
 

@@ -24,8 +24,7 @@ int main(int argc, char** argv) {
   // then grants them, instead of warning on the terminal that the request is ignored.
   const tbb::global_control parallelism(
       tbb::global_control::max_allowed_parallelism,
-      static_cast<std::size_t>(
-          std::max(fuzzycsg::app::kMaxThreads, tbb::info::default_concurrency())));
+      static_cast<std::size_t>(std::max(fuzzycsg::kMaxThreads, tbb::info::default_concurrency())));
   for (int i = 0; i < argc; ++i) {
     fuzzycsg::app::command_line() += (i ? " " : "") + std::string(argv[i]);
   }

@@ -38,6 +38,10 @@ void prepare_output_dir(const std::filesystem::path& dir) {
 std::string flag_for(const std::string& field) {
   static const std::map<std::string, std::string, std::less<>> kNamed = {
       {"families", "--family"},
+      {"iterations", "--iters"},
+      {"random_view_every", "--random-views"},
+      {"local.max_iterations", "--iterations"},
+      {"local.k", "--k"},
       {"metrics.points", "--metric-points"},
       {"sampling", "--surface, --near"},
       {"sampling.scheme", "--sampler"},

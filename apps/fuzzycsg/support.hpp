@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <string>
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 
 namespace fuzzycsg::app {
 
@@ -32,9 +33,6 @@ class CommandError : public Error {
  public:
   using Error::Error;
 };
-
-// The most threads a verb accepts: oneTBB's own limit on the threads of one arena.
-inline constexpr int kMaxThreads = 256;
 
 // --threads N (0: all cores), checked against kMaxThreads.
 CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help = "");

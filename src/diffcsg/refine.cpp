@@ -10,6 +10,7 @@
 #include <set>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/placement.hpp"
 #include "fuzzycsg/optim/adam.hpp"
 #include "fuzzycsg/optim/cmaes.hpp"
@@ -366,17 +367,24 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
                                    target.cameras[v].height));
     }
   }
-  if (o.iterations < 0) throw InputError("refine: iterations: must not be negative");
-  if (!(o.lr > 0)) throw InputError("refine: lr: must be > 0");
-  if (!(o.lr_relative >= 0)) throw InputError("refine: relative lr: must not be negative");
-  if (o.random_view_every < 0) throw InputError("refine: random views: must not be negative");
+  if (o.iterations < 0) throw OptionError("iterations", "must not be negative");
+  if (!(o.lr > 0) || !std::isfinite(o.lr)) throw OptionError("lr", "must be > 0");
+  if (!(o.lr_relative >= 0) || !std::isfinite(o.lr_relative)) {
+    throw OptionError("lr_relative", "must not be negative");
+  };
+  if (o.random_view_every < 0) throw OptionError("random_view_every", "must not be negative");
   if (o.random_view_every > 0 && !target.render) {
-    throw InputError("refine: random views need a target that can be drawn (a model or a mesh)");
+    throw OptionError("random_view_every",
+                      "random views need a target that can be drawn (a model or a mesh)");
   }
-  if (o.check_every < 1) throw InputError("refine: check interval: must be at least 1");
+  if (o.check_every < 1) throw OptionError("check_every", "must be at least 1");
+  check_threads(o.threads);
   if (o.method == Method::kCmaes) {
-    if (o.random_view_every > 0) throw InputError("refine: CMA-ES uses the fixed views only");
-    if (!(o.cmaes_sigma > 0)) throw InputError("refine: CMA-ES sigma: must be > 0");
+    if (o.random_view_every > 0)
+      throw OptionError("random_view_every", "CMA-ES uses the fixed views only");
+    if (!(o.cmaes_sigma > 0) || !std::isfinite(o.cmaes_sigma)) {
+      throw OptionError("cmaes_sigma", "must be > 0");
+    };
     return refine_cmaes(input, target, o, options);
   }
   const auto since = [](Clock::time_point t) {

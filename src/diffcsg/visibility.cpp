@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 
 namespace fuzzycsg::diffcsg {
 
@@ -288,8 +289,7 @@ void render_visibility(const Scene& scene, const Camera& camera, Frame& f, int t
     rtcAttachGeometryByID(rtc.get(), g, static_cast<unsigned>(p));
     rtcReleaseGeometry(g);
   }
-  const int n_threads =
-      threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int n_threads = thread_count(threads);
   // An arena per thread count, kept by each calling thread: a fresh arena for every frame is
   // often left to its calling thread alone (TBB's worker, still leaving the last one, does not
   // join it), which halved the speed of back-to-back frames on 2 cores.

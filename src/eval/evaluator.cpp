@@ -14,6 +14,7 @@
 #include "eval/flush_denormals.hpp"
 #include "eval/kernel.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 
 namespace fuzzycsg {
 
@@ -74,9 +75,7 @@ struct Evaluator::Impl {
 
   Impl(const Tree& tree, EvalOptions options)
       : program(compile_valid(tree)),
-        threads(options.threads > 0
-                    ? options.threads
-                    : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
+        threads(thread_count(options.threads)),
         flush(options.flush_subnormals),
         arena(threads) {
     const auto tape = program.tape();

@@ -14,6 +14,7 @@
 
 #include "fit/point_cloud.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 
 namespace fuzzycsg {
@@ -174,7 +175,7 @@ Metrics measure(const Tree& tree, std::span<const double> params, const Target& 
   std::vector<float> boundary, normals;
   target.sample_boundary(options.chamfer_samples, boundary_rng, boundary, normals);
   if (boundary.empty()) return m;
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(thread_count(options.threads, "metrics.threads"));
   const NearestDistances to_target = nearest_distances(surface, boundary, dim, arena);
   const NearestDistances to_tree = nearest_distances(boundary, surface, dim, arena);
   m.chamfer = 0.5 * (to_target.mean + to_tree.mean);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/tree_builder.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
@@ -99,11 +100,6 @@ Tree constant_tree(const Tree& source, std::span<const float> points, bool full)
   out.nodes.push_back(constant_node(source, points, full, out.params));
   out.root = 0;
   return out;
-}
-
-int thread_count(int threads) {
-  return threads > 0 ? threads
-                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 // Fixed chunks of points so that every sum is taken in the same order whatever the threads.

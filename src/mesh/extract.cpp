@@ -14,6 +14,7 @@
 
 #include "bounds.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/mesh/mesh.hpp"
 #include "reduce.hpp"
@@ -573,6 +574,7 @@ void extract(Extractor& ex, const MeshOptions& o, MeshStats& stats, Contour cont
 
 template <class F>
 auto in_arena(int threads, F&& f) {
+  check_threads(threads);
   if (threads <= 0) return f();
   tbb::task_arena arena(threads);
   return arena.execute(f);

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <memory>
 
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/triangle_mesh.hpp"
 #include "fuzzycsg/render/render.hpp"
 
@@ -64,6 +65,7 @@ class MeshShader {
 // f() in an arena of `threads` threads (0: the default one).
 template <class F>
 auto in_arena(int threads, const F& f) {
+  check_threads(threads);
   if (threads > 0) {
     tbb::task_arena arena(threads);
     return arena.execute(f);

@@ -12,6 +12,7 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <utility>
@@ -153,9 +154,10 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
   const std::string hint = lowercase_extension(path).substr(1);
   check_declared_counts(bytes, hint, name);
   Assimp::Importer importer;
-  // The file as it is, checked, then triangulated and its identical vertices joined; nothing
-  // else that moves vertices: no smoothing, no fixing of normals or of winding (the winding is
-  // fixed below from the signed volume).
+  // The file as it is, checked, then triangulated (identical vertices are joined by compact(),
+  // exactly: assimp's joining has an absolute tolerance that merges the corners of a small
+  // part); nothing else that moves vertices: no smoothing, no fixing of normals or of winding (the
+  // winding is fixed below from the signed volume).
   const aiScene* scene = importer.ReadFileFromMemory(bytes.data(), bytes.size(), 0, hint.c_str());
   if (scene == nullptr) {
     fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
@@ -165,10 +167,6 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
   // merged into a finite vertex instead of reported.
   check_finite(*scene, name);
   scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
-  if (scene == nullptr) {
-    fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
-  }
-  scene = importer.ApplyPostProcessing(aiProcess_JoinIdenticalVertices);
   if (scene == nullptr) {
     fail(name, "cannot read mesh (" + assimp_message(importer.GetErrorString(), hint, path) + ")");
   }
@@ -225,9 +223,12 @@ TriangleMesh read_mesh(const std::filesystem::path& path, const std::string& nam
   return mesh;
 }
 
-// Keeps the vertices that triangles use (renumbered) and checks that they are finite.
+// Keeps the vertices that triangles use, renumbered in the order of first use, with vertices at
+// identical positions joined (whatever the part's size: no tolerance), and checks that they are
+// finite.
 void compact(TriangleMesh& mesh, const std::string& name) {
   std::vector<int> index(mesh.vertices.size(), -1);  // -1: not used (yet)
+  std::map<std::array<double, 3>, int> at;           // a position's index in `used`
   std::vector<std::array<double, 3>> used;
   for (std::array<int, 3>& t : mesh.triangles) {
     for (int& corner : t) {
@@ -237,8 +238,11 @@ void compact(TriangleMesh& mesh, const std::string& name) {
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
           fail(name, "a vertex has a coordinate that is not a finite number");
         }
-        to = static_cast<int>(used.size());
-        used.push_back(p);
+        // -0 and +0 are one position.
+        const std::array<double, 3> key{p[0] + 0.0, p[1] + 0.0, p[2] + 0.0};
+        const auto [it, added] = at.emplace(key, static_cast<int>(used.size()));
+        if (added) used.push_back(p);
+        to = it->second;
       }
       corner = to;
     }

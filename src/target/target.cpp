@@ -34,11 +34,6 @@ std::string lowercase_extension(const std::filesystem::path& path) {
   return ext;
 }
 
-int thread_count(int requested) {
-  if (requested > 0) return requested;
-  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
-
 std::size_t uniform_index(Rng& rng, std::size_t n) {
   // 2^64 mod n: the draws below it would make small results more likely than large ones.
   const std::uint64_t m = static_cast<std::uint64_t>(n);

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::target_detail {
@@ -27,9 +28,6 @@ std::string read_file_bytes(const std::filesystem::path& path, const std::string
 
 // The extension with its dot, in lower case: ".obj".
 std::string lowercase_extension(const std::filesystem::path& path);
-
-// options.threads resolved: 0 becomes the number of hardware threads.
-int thread_count(int requested);
 
 // The random numbers of every sampler come from these two functions, not from
 // std::uniform_*_distribution, whose algorithms the standard leaves to each library: samples are

@@ -322,7 +322,7 @@ namespace fuzzycsg {
 std::unique_ptr<Target> tree_target(Tree tree, const std::string& name,
                                     const TargetOptions& options) {
   return std::make_unique<target_detail::TreeTarget>(name, std::move(tree),
-                                                     target_detail::thread_count(options.threads));
+                                                     thread_count(options.threads));
 }
 
 }  // namespace fuzzycsg

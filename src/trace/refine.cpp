@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
 #include "fuzzycsg/optim/adam.hpp"
@@ -23,7 +24,7 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 [[noreturn]] void bad(std::string_view field, double v, std::string_view what) {
-  throw InputError(fmt::format("refine: {} must be {} (got {})", field, what, v));
+  throw OptionError(std::string(field), fmt::format("must be {} (got {})", what, v));
 }
 
 bool finite_positive(double v) { return v > 0 && std::isfinite(v); }
@@ -58,7 +59,7 @@ void validate(const RefineOptions& o) {
   if (!finite_positive(o.min_size)) bad("min_size", o.min_size, "> 0");
   if (o.check_every < 1) bad("check_every", o.check_every, ">= 1");
   if (!(o.k >= 0) || !std::isfinite(o.k)) bad("k", o.k, ">= 0");
-  if (o.threads < 0) bad("threads", o.threads, ">= 0");
+  check_threads(o.threads);
   if (!(o.time_limit >= 0) || !std::isfinite(o.time_limit)) {
     bad("time_limit", o.time_limit, ">= 0");
   }

@@ -16,39 +16,44 @@
 
 #include "distance.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 
 namespace fuzzycsg::trace {
 
 void validate(const SearchOptions& o) {
   const auto bad = [](const std::string& field, const std::string& why) {
-    throw InputError(fmt::format("search option {}: {}", field, why));
+    throw OptionError(field, why);
   };
-  if (o.population < 1) bad("population (|S|)", "must be at least 1");
-  if (o.max_trees < 0) bad("max-trees (N)", "must not be negative");
-  if (o.patience < 1) bad("patience (B)", "must be at least 1");
-  if (o.refocus < 1) bad("refocus (n)", "must be at least 1");
+  if (o.population < 1 || o.population > kMaxPopulation) {
+    bad("population", fmt::format("must be in 1..{} (|S|)", kMaxPopulation));
+  }
+  if (o.max_trees < 0) bad("max_trees", "must not be negative (N)");
+  if (o.patience < 1) bad("patience", "must be at least 1 (B)");
+  if (o.refocus < 1) bad("refocus", "must be at least 1 (n)");
   const auto size = [&](double v, const char* field) {
     if (!(v >= 1 && v <= 1e4)) bad(field, "must be in [1, 10000]");
   };
   const auto spread = [&](double v, const char* field) {
     if (!(v >= 0 && v <= 1e4)) bad(field, "must be in [0, 10000]");
   };
-  size(o.initial_size, "initial-size (a)");
-  spread(o.initial_sd, "initial-sd (s)");
-  size(o.added_size, "added-size (a')");
-  spread(o.added_sd, "added-sd (s')");
+  size(o.initial_size, "initial_size");
+  spread(o.initial_sd, "initial_sd");
+  size(o.added_size, "added_size");
+  spread(o.added_sd, "added_sd");
   double sum = 0;
   for (const double p : o.probabilities) {
     if (!(p >= 0 && std::isfinite(p))) bad("probabilities", "must be finite and >= 0");
     sum += p;
   }
   if (!(sum > 0)) bad("probabilities", "must not all be zero");
-  if (o.local.max_iterations < 1) bad("iterations (M)", "must be at least 1");
-  if (!(o.local.k >= 0 && std::isfinite(o.local.k))) bad("k", "must be finite and >= 0");
-  if (o.threads < 0) bad("threads", "must not be negative");
-  if (o.batch < 1) bad("batch", "must be at least 1");
-  if (!(o.time_limit >= 0)) bad("time-limit", "must not be negative");
-  if (o.statistics_window < 1) bad("statistics-window", "must be at least 1");
+  if (o.local.max_iterations < 1) bad("local.max_iterations", "must be at least 1 (M)");
+  if (!(o.local.k >= 0 && std::isfinite(o.local.k))) bad("local.k", "must be finite and >= 0");
+  check_threads(o.threads);
+  if (o.batch < 1 || o.batch > kMaxPopulation) {
+    bad("batch", fmt::format("must be in 1..{}", kMaxPopulation));
+  }
+  if (!(o.time_limit >= 0) || std::isnan(o.time_limit)) bad("time_limit", "must not be negative");
+  if (o.statistics_window < 1) bad("statistics_window", "must be at least 1");
 }
 
 namespace {
@@ -314,9 +319,7 @@ typename Problem::Candidate hill_climb(const Problem& problem, const SearchOptio
                                        SearchStatistics& stats) {
   using Candidate = typename Problem::Candidate;
   const auto t0 = Clock::now();
-  const int threads = o.threads > 0
-                          ? o.threads
-                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = thread_count(o.threads);
   stats.threads = threads;
   tbb::task_arena arena(threads);
   const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - t0).count(); };

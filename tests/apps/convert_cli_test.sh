@@ -52,6 +52,32 @@ err = open(sys.argv[2]).read().splitlines()
 assert len(err) == 1 and "is below 1; the best tree found is written" in err[0], err
 PY
 then ok; else bad "convert: a poor result, or no word of the IoU not reached"; fi
+# The output folder is replaced as a set. A run killed before it ends leaves the earlier set as
+# it was; the next run puts its own in its place whole, and no temporary folder stays beside it.
+cp -r "$tmp/cv2" "$tmp/cv2.before"
+"$bin" convert "$hole" -o "$tmp/cv2" --seed 4 --threads 2 -q --no-tidy &
+pid=$!
+sleep 1
+kill -9 "$pid"
+wait "$pid" 2>/dev/null
+if diff -r "$tmp/cv2" "$tmp/cv2.before" >/dev/null; then ok; else bad "convert: a killed run changed the earlier outputs"; fi
+if "$bin" convert "$hole" -o "$tmp/cv2" --seed 4 --threads 2 -q --max-primitives 1 --warn-iou 0 &&
+    ! cmp -s "$tmp/cv2/tree.json" "$tmp/cv2.before/tree.json" &&
+    [[ $(ls -A "$tmp/cv2" | sort | tr '\n' ' ') == "$(ls -A "$tmp/cv2.before" | sort | tr '\n' ' ')" ]] &&
+    [[ -z $(find "$tmp" -maxdepth 1 -name '.cv2.fuzzycsg-*') ]] &&
+    python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["primitives"] == 1' "$tmp/cv2/report.json"
+then ok; else bad "convert: the outputs were not replaced as a set"; fi
+rm -rf "$tmp/cv2"
+mv "$tmp/cv2.before" "$tmp/cv2"
+# The folder is checked before any work: a file in its place, or files of the user's in it, are
+# refused in one line and left alone.
+printf 'x' >"$tmp/a-file"
+expect_error "a-file: cannot be the output folder" "$bin" convert "$hole" -o "$tmp/a-file"
+mkdir -p "$tmp/mine"
+echo keep >"$tmp/mine/notes.txt"
+expect_error "mine: holds notes.txt, which this verb does not write" "$bin" convert "$hole" -o "$tmp/mine"
+if [[ $(cat "$tmp/mine/notes.txt") == keep && $(ls -A "$tmp/mine") == notes.txt ]]; then ok
+else bad "convert: a refused output folder was changed"; fi
 # The same seed and thread count give the same tree, which sits where the mesh does; without
 # --warn-iou, "reached" compares with the default bar (0.97). Not under the sanitizers.
 if [[ $sanitized == 1 ]]; then

@@ -191,8 +191,10 @@ if python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); n=r["bitmap"]["p
 expect_error "corrupt.png" "$bin" trace "$tmp/corrupt.png" -o "$tmp/bad1" "${tiny[@]}"
 expect_error "no-such.png" "$bin" trace "$tmp/no-such.png" -o "$tmp/bad2" "${tiny[@]}"
 expect_error "huge.png.*too large" "$bin" trace "$tmp/huge.png" -o "$tmp/bad3" "${tiny[@]}"
-expect_error "search option population .*: must be at least 1" "$bin" trace "$tmp/disc.png" -o "$tmp/bad4" --population 0
-expect_error "search option k: must be finite and >= 0" "$bin" trace "$tmp/disc.png" -o "$tmp/bad5" --k -1
+expect_error "^fuzzycsg: error: --population: must be in 1\\.\\.100000" "$bin" trace "$tmp/disc.png" -o "$tmp/bad4" --population 0
+expect_error "^fuzzycsg: error: --population: must be in 1\\.\\.100000" "$bin" trace "$tmp/disc.png" -o "$tmp/bad4" --population 100000000
+expect_error "^fuzzycsg: error: --k: must be finite and >= 0" "$bin" trace "$tmp/disc.png" -o "$tmp/bad5" --k -1
+expect_error "^fuzzycsg: error: --refine-iterations: must be >= 0" "$bin" trace "$tmp/disc.png" -o "$tmp/bad5" --refine --refine-iterations -1
 expect_error "--probabilities: all four are zero" "$bin" trace "$tmp/disc.png" -o "$tmp/bad6" \
   --probabilities 0,0,0,0
 expect_error "--probabilities: expected four numbers" "$bin" trace "$tmp/disc.png" -o "$tmp/bad7" \

@@ -70,6 +70,10 @@ struct SearchOptions {
 // negative or all zero, k < 0, ...).
 void validate(const SearchOptions& options);
 
+// The largest population (and batch) a search takes: each tree of the population keeps a
+// picture-sized scan of its own, so memory grows with population x pixels.
+inline constexpr int kMaxPopulation = 100000;
+
 // The rate of improvement of each perturbation: of the candidates it produced in a window of
 // iterations, the share that replaced the tree they came from.
 struct OperatorWindow {
