@@ -152,7 +152,7 @@ Verb register_convert(CLI::App& app) {
   cmd->add_option("--warn-iou", o.warn_iou,
                   "Say so on stderr and in report.json when the IoU ends below this")
       ->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str()->check(unsigned_number());
   cmd->add_option("--resolution", o.resolution, "Search grid cells along the longest side")
       ->capture_default_str();
   cmd->add_option("--restarts", o.restarts, "Random restarts of the search")->capture_default_str();

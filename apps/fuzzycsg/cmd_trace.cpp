@@ -65,7 +65,7 @@ struct MorphArgs {
 
 void add_search_options(CLI::App* cmd, SearchArgs& a) {
   SearchOptions& o = a.options;
-  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Random seed")->capture_default_str()->check(unsigned_number());
   cmd->add_option("--population", o.population, "|S|: trees searched in parallel")
       ->capture_default_str();
   cmd->add_option("--max-trees", o.max_trees, "N: iterations (trees perturbed) at most")

@@ -54,6 +54,18 @@ std::string flag_for(const std::string& field) {
   return flag;
 }
 
+const CLI::Validator& unsigned_number() {
+  static const CLI::Validator v(
+      [](std::string& text) {
+        const auto first = text.find_first_not_of(" \t");
+        return first != std::string::npos && text[first] == '-'
+                   ? std::string("must be a whole number >= 0 (got " + text + ")")
+                   : std::string();
+      },
+      "UINT");
+  return v;
+}
+
 CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help) {
   return cmd->add_option("--threads", threads, help.empty() ? "Threads (0: all cores)" : help)
       ->check(CLI::Range(0, kMaxThreads))

@@ -34,6 +34,10 @@ class CommandError : public Error {
   using Error::Error;
 };
 
+// A whole number >= 0 (a seed, a count): "-1" refused, where an unsigned option would otherwise
+// take it as 2^64 - 1.
+const CLI::Validator& unsigned_number();
+
 // --threads N (0: all cores), checked against kMaxThreads.
 CLI::Option* add_threads_option(CLI::App* cmd, int& threads, const std::string& help = "");
 

@@ -79,12 +79,19 @@ def fit(target, **kwargs) -> Result:
     return Result(**_fuzzycsg._fit(_path_or_tree(target), fit_options, target_options))
 
 
-def convert(target, **kwargs) -> Result:
+def convert(target, faces=None, *, name: str = "mesh", **kwargs) -> Result:
     """A mesh, an OpenSCAD ``.csg`` model or a picture to a crisp CSG program of CAD primitives.
-    Options: the fields of ``ConvertOptions``. Returns ``tree``, ``scad`` (the OpenSCAD program),
-    ``primitives``, ``metrics``, ``chamfer``, ``hausdorff``, ``reached`` and ``report`` (a dict,
-    report.json's content)."""
-    result = _fuzzycsg._convert(_path(target), options_from(ConvertOptions, kwargs, "convert"))
+    ``target``: a file, or a mesh held in memory as ``convert(vertices, faces)`` (V x 3
+    coordinates in the mesh's units, F x 3 vertex indices of its triangles; ``name`` stands for
+    it in errors and the report), converted as a file of the same mesh is. Options: the fields
+    of ``ConvertOptions``. Returns ``tree``, ``scad`` (the OpenSCAD program), ``primitives``,
+    ``metrics``, ``chamfer``, ``hausdorff``, ``reached`` and ``report`` (a dict, report.json's
+    content)."""
+    options = options_from(ConvertOptions, kwargs, "convert")
+    if faces is not None:
+        result = _fuzzycsg._convert_mesh(target, faces, options, name)
+    else:
+        result = _fuzzycsg._convert(_path(target), options)
     result["report"] = json.loads(result["report"])
     return Result(**result)
 

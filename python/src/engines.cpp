@@ -340,6 +340,9 @@ py::dict run_fit(const py::object& target, const FitOptions& o, const TargetOpti
   return d;
 }
 
+py::dict convert_dict(const convert::ConvertResult& r, const convert::ConvertOptions& o,
+                      const std::string& source);
+
 py::dict run_convert(const py::object& path, const convert::ConvertOptions& o) {
   const std::string p = path_of(path, "target");
   convert::ConvertResult r;
@@ -347,9 +350,15 @@ py::dict run_convert(const py::object& path, const convert::ConvertOptions& o) {
     py::gil_scoped_release release;
     r = convert::convert(p, o);
   }
+  return convert_dict(r, o, std::filesystem::path(p).filename().string());
+}
+
+// What Python's convert returns: the tree, its program, the measures and report.json.
+py::dict convert_dict(const convert::ConvertResult& r, const convert::ConvertOptions& o,
+                      const std::string& source) {
   scad::ExportOptions eo;
   eo.threads = o.threads;
-  eo.source = std::filesystem::path(p).filename().string();
+  eo.source = source;
   eo.writer = "fuzzycsg convert";
   eo.leaf_comments = false;
   py::dict d;
@@ -363,6 +372,41 @@ py::dict run_convert(const py::object& path, const convert::ConvertOptions& o) {
   d["scad"] = scad::export_scad(r.tree, r.tree.params.values(), eo);
   d["report"] = convert::report_json(r, o);
   return d;
+}
+
+// A mesh given as arrays (V x 3 vertices, F x 3 triangle indices) converted as a file of the
+// same mesh is.
+py::dict run_convert_mesh(const py::handle& vertices, const py::handle& faces,
+                          const convert::ConvertOptions& o, const std::string& name) {
+  const CArray<double> v = as_array<double>(vertices, "vertices");
+  check_shape(v, "vertices", {-1, 3});
+  check_finite(v, "vertices");
+  const CArray<long long> f = as_array<long long>(faces, "faces");
+  check_shape(f, "faces", {-1, 3});
+  TriangleMesh mesh;
+  mesh.vertices.resize(static_cast<std::size_t>(v.shape(0)));
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) mesh.vertices[i][k] = v.data()[3 * i + k];
+  }
+  mesh.triangles.resize(static_cast<std::size_t>(f.shape(0)));
+  const long long n = static_cast<long long>(mesh.vertices.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const long long index = f.data()[3 * i + k];
+      if (index < 0 || index >= n) {
+        throw py::value_error("faces: entry " + std::to_string(3 * i + k) + " is " +
+                              std::to_string(index) + ", outside the " + std::to_string(n) +
+                              " vertices");
+      }
+      mesh.triangles[i][k] = static_cast<int>(index);
+    }
+  }
+  convert::ConvertResult r;
+  {
+    py::gil_scoped_release release;
+    r = convert::convert(mesh, o, {}, name);
+  }
+  return convert_dict(r, o, name);
 }
 
 py::tuple run_prune(const Tree& tree, const py::object& points, const PruneOptions& o,
@@ -532,6 +576,8 @@ void register_engines(py::module_& m) {
   bind_output_options(m);
   m.def("_fit", &run_fit, py::arg("target"), py::arg("options"), py::arg("target_options"));
   m.def("_convert", &run_convert, py::arg("target"), py::arg("options"));
+  m.def("_convert_mesh", &run_convert_mesh, py::arg("vertices"), py::arg("faces"),
+        py::arg("options"), py::arg("name"));
   m.def("_prune", &run_prune, py::arg("tree"), py::arg("points"), py::arg("options"),
         py::arg("seed"), py::arg("count"));
   m.def("_trace", &run_trace, py::arg("picture"), py::arg("options"), py::arg("refine"),

@@ -127,3 +127,45 @@ def test_render_a_picture(tmp_path):
         fuzzycsg.render(tree, camera={"eye": [0.5, 0.4, 0.3], "target": [0, 0, 1]})
     with pytest.raises(fuzzycsg.InputError, match="3D"):
         fuzzycsg.render(fuzzycsg.Tree.from_json(DISC))
+
+
+def test_convert_from_arrays_gives_the_programs_tree(tmp_path):
+    """A mesh held in memory is converted as the program converts the same mesh's file."""
+    import subprocess, os
+    tree = fuzzycsg.Tree.from_json(PROGRAM)
+    path = tmp_path / "part.obj"
+    vertices, triangles = fuzzycsg.mesh(tree, path, resolution=40)
+    r = fuzzycsg.convert(vertices, triangles, name="part", threads=2, seed=3, time_limit=120)
+    out = tmp_path / "out"
+    subprocess.run([os.environ["FUZZYCSG_PROGRAM"], "convert", str(path), "-o", str(out),
+                    "--threads", "2", "--seed", "3", "--time-limit", "120", "-q"], check=True)
+    from_file = fuzzycsg.Tree.read(str(out / "tree.json"))
+    assert r.primitives >= 2 and r.metrics["iou"] > 0.9, (r.primitives, r.metrics)
+    assert r.tree.names == from_file.names
+    np.testing.assert_array_equal(r.tree.values, from_file.values)
+    assert r.report["target"].startswith("mesh part:"), r.report["target"]
+    # Bad arrays: named, one line.
+    with pytest.raises(ValueError, match=f"^faces: entry 2 is {len(vertices)}, outside"):
+        fuzzycsg.convert(vertices, np.array([[0, 1, len(vertices)]]))
+    with pytest.raises(ValueError, match="vertices"):
+        fuzzycsg.convert(vertices[:, :2], triangles)
+    with pytest.raises(fuzzycsg.InputError, match="^part: mesh is open"):
+        fuzzycsg.convert(vertices, triangles[:-1], name="part")
+
+
+@pytest.mark.parametrize("threads", [100000, 10**9, -1])
+def test_threads_out_of_range_are_option_errors(threads):
+    """The library checks threads: no engine terminates the interpreter (oneTBB) on a huge count."""
+    tree = fuzzycsg.Tree.from_json(PROGRAM)
+    points = np.zeros((4, 3), np.float32)
+    with pytest.raises(fuzzycsg.OptionError, match="^threads: must be in 0..256"):
+        fuzzycsg.eval(tree, points, threads=threads)
+    with pytest.raises(fuzzycsg.OptionError, match="^threads: must be in 0..256"):
+        fuzzycsg.grad(tree, points, np.ones(4, np.float32), threads=threads)
+    with pytest.raises(fuzzycsg.OptionError, match="threads: must be in 0..256"):
+        fuzzycsg.mesh(tree, resolution=16, threads=threads)
+    with pytest.raises(fuzzycsg.OptionError, match="threads: must be in 0..256"):
+        fuzzycsg.fit(tree, prims=2, iters=2, threads=threads)
+    vertices, triangles = fuzzycsg.mesh(tree, resolution=16)
+    with pytest.raises(fuzzycsg.OptionError, match="^threads: must be in 0..256"):
+        fuzzycsg.convert(vertices, triangles, threads=threads)

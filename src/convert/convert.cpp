@@ -19,6 +19,7 @@
 #include "convert/tidy.hpp"
 #include "fuzzycsg/convert/detect.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/target/mesh_file.hpp"
 #include "fuzzycsg/target/target.hpp"
 
@@ -73,6 +74,22 @@ struct LoadedInput {
   TriangleMesh mesh;  // the target's surface in its own coordinates
 };
 
+// A mesh checked closed and manifold, and its target. A surface that bounds no solid would give
+// an inside test that depends on the ray's direction; it is refused with its defect named
+// rather than converted as noise.
+LoadedInput mesh_input(TriangleMesh mesh, const std::string& name, const ConvertOptions& options) {
+  LoadedInput in;
+  in.mesh = joined_mesh(std::move(mesh), name);
+  if (const std::optional<std::string> defect = mesh_defect(in.mesh)) {
+    throw InputError(name + ": " + *defect);
+  }
+  TargetOptions target_options;
+  target_options.padding = options.padding;
+  target_options.threads = options.threads;
+  in.target = mesh_target(in.mesh, name, target_options);
+  return in;
+}
+
 // A mesh file (checked closed and manifold) as itself; an OpenSCAD `.csg` model as its tree,
 // the true solid, and a mesh of that tree to detect surfaces on.
 LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
@@ -94,17 +111,7 @@ LoadedInput load_input(const std::string& path, const ConvertOptions& options) {
   if (ext != ".obj" && ext != ".stl" && ext != ".ply" && ext != ".off") {
     throw InputError(path + kTakes);
   }
-  // A surface that bounds no solid would give an inside test that depends on the ray's
-  // direction; refuse it with its defect named rather than convert noise.
-  in.mesh = read_mesh_file(path);
-  if (const std::optional<std::string> defect = mesh_defect(in.mesh)) {
-    throw InputError(path + ": " + *defect);
-  }
-  in.target = load_target(path, target_options);
-  if (in.target->kind() != "mesh" || in.target->dim() != 3) {
-    throw InputError(path + kTakes);
-  }
-  return in;
+  return mesh_input(read_mesh_file(path), path, options);
 }
 
 // The searched tree's solids refined by fuzzy gradient descent (unified operators, sigmoid
@@ -243,21 +250,15 @@ void validate(const ConvertOptions& o) {
   if (o.restarts < 0 || o.restarts > 256) throw OptionError("restarts", "must be in 0..256");
   if (o.refine_steps < 0) throw OptionError("refine_steps", "must be >= 0");
   if (!(o.padding >= 0 && o.padding < 0.5)) throw OptionError("padding", "must be in [0, 0.5)");
-  if (o.threads < 0) throw OptionError("threads", "must be >= 0");
-  if (!(o.time_limit > 0)) throw OptionError("time_limit", "must be > 0");
+  check_threads(o.threads);
   if (!(o.warn_iou >= 0 && o.warn_iou <= 1)) throw OptionError("warn_iou", "must be in [0, 1]");
 }
 
-ConvertResult convert(const std::string& path, const ConvertOptions& options,
-                      const ConvertHooks& hooks) {
-  validate(options);
-  if (is_picture(path)) return convert_picture(path, options, hooks);
-  const Clock::time_point start = Clock::now();
-  ConvertResult result;
-  Stages stages(result, hooks);
+namespace {
 
-  stages.begin("load");
-  LoadedInput input = load_input(path, options);
+// The stages after loading (convert.hpp), on a loaded input; `name` names it in errors.
+void convert_loaded(LoadedInput input, const std::string& name, const ConvertOptions& options,
+                    Clock::time_point start, ConvertResult& result, Stages& stages) {
   const std::unique_ptr<Target>& target = input.target;
   result.target = target->describe();
   result.normalisation = target->normalisation();
@@ -284,20 +285,20 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
       split_components(grid, std::max<std::size_t>(8, inside / 500), 3, dropped);
   result.dropped_cells = static_cast<long long>(dropped);
   result.components = static_cast<int>(parts.size());
-  if (parts.empty()) throw InputError(path + ": the mesh encloses no cell of the search grid");
+  if (parts.empty()) throw InputError(name + ": the mesh encloses no cell of the search grid");
   SearchOptions search;
   search.seed = options.seed;
   search.restarts = options.restarts;
   if (options.max_primitives > 0) search.max_steps = options.max_primitives;
+  // Saturating: --time-limit inf (or 1e300) is a deadline never reached, not an overflow.
   const auto at = [&](double fraction) {
-    return start + std::chrono::duration_cast<Clock::duration>(
-                       std::chrono::duration<double>(fraction * options.time_limit));
+    return deadline_after(start, fraction * options.time_limit);
   };
   search.deadline = at(0.6);
   std::vector<Chain> chains;
   for (const LabelGrid& part : parts) chains.push_back(search_chain(part, candidates, search));
   if (std::all_of(chains.begin(), chains.end(), [](const Chain& c) { return c.steps.empty(); })) {
-    throw InputError(path + ": no solid proposed from the detected surfaces covers the part");
+    throw InputError(name + ": no solid proposed from the detected surfaces covers the part");
   }
   result.time_limit_reached = Clock::now() > *search.deadline;  // before extending the cutters
   extend_cutters(chains, grid, 0.1, options.threads);
@@ -336,6 +337,35 @@ ConvertResult convert(const std::string& path, const ConvertOptions& options,
   result.reached = result.metrics.iou >= options.warn_iou;
   result.primitives = count_leaves(result.tree);
   result.seconds = since(start);
+  // Loading, detection and measuring are not cut short: a run that took longer than the limit
+  // says so.
+  result.time_limit_reached = result.time_limit_reached || result.seconds > options.time_limit;
+}
+
+}  // namespace
+
+ConvertResult convert(const std::string& path, const ConvertOptions& options,
+                      const ConvertHooks& hooks) {
+  validate(options);
+  if (is_picture(path)) return convert_picture(path, options, hooks);
+  const Clock::time_point start = Clock::now();
+  ConvertResult result;
+  Stages stages(result, hooks);
+  stages.begin("load");
+  LoadedInput input = load_input(path, options);
+  convert_loaded(std::move(input), path, options, start, result, stages);
+  return result;
+}
+
+ConvertResult convert(const TriangleMesh& mesh, const ConvertOptions& options,
+                      const ConvertHooks& hooks, const std::string& name) {
+  validate(options);
+  const Clock::time_point start = Clock::now();
+  ConvertResult result;
+  Stages stages(result, hooks);
+  stages.begin("load");
+  LoadedInput input = mesh_input(mesh, name, options);
+  convert_loaded(std::move(input), name, options, start, result, stages);
   return result;
 }
 

@@ -149,15 +149,20 @@ ConvertResult convert_picture(const std::string& path, const ConvertOptions& opt
   trace::SearchOptions search;
   search.seed = options.seed;
   search.threads = options.threads;
-  search.time_limit = 0.6 * options.time_limit;
+  // Seconds left of a share of the time limit; 0 (none, for the tracer) when there is no limit.
+  const bool limited = std::isfinite(options.time_limit);
+  const auto left = [&](double share) {
+    return limited ? share * options.time_limit - seconds_since(start) : 0.0;
+  };
+  search.time_limit = limited ? 0.6 * options.time_limit : 0.0;
   trace::SearchResult found = trace::search(bitmap, search);
   // --max-primitives: primitives made dearer until the tree has no more than asked.
   for (int attempt = 0; options.max_primitives > 0 && attempt < 6 &&
                         found.best.primitive_count() > options.max_primitives;
        ++attempt) {
     search.local.k *= 2;
-    search.time_limit = 0.6 * options.time_limit - seconds_since(start);
-    if (search.time_limit <= 0) break;
+    search.time_limit = left(0.6);
+    if (limited && search.time_limit <= 0) break;
     found = trace::search(bitmap, search);
   }
   result.time_limit_reached = found.statistics.stopped_by == std::string("time-limit");
@@ -171,7 +176,7 @@ ConvertResult convert_picture(const std::string& path, const ConvertOptions& opt
     refine.k = search.local.k;
     refine.seed = options.seed;
     refine.threads = options.threads;
-    refine.time_limit = std::max(1.0, 0.8 * options.time_limit - seconds_since(start));
+    refine.time_limit = limited ? std::max(1.0, left(0.8)) : 0.0;
     const trace::RefineResult refined = trace::refine(best, bitmap, refine);
     if (refined.improved) {
       best = refined.tree;
@@ -198,6 +203,7 @@ ConvertResult convert_picture(const std::string& path, const ConvertOptions& opt
   result.reached = result.metrics.iou >= options.warn_iou;
   result.primitives = leaves_of(result.tree);
   result.seconds = seconds_since(start);
+  result.time_limit_reached = result.time_limit_reached || result.seconds > options.time_limit;
   return result;
 }
 

@@ -7,8 +7,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/io/files.hpp"
 
 namespace fuzzycsg::io::detail {
 
@@ -118,6 +120,12 @@ std::string read_text_file(const std::filesystem::path& path) {
       fail(error);
     }
     if (n == 0) break;
+    if (text.size() + static_cast<std::size_t>(n) > kMaxFileBytes) {
+      ::close(fd);
+      throw InputError(display_name(path) + ": larger than " +
+                       std::to_string(kMaxFileBytes >> 30) +
+                       " GiB, the most fuzzycsg reads of one file");
+    }
     text.append(buffer, static_cast<std::size_t>(n));
   }
   ::close(fd);

@@ -14,6 +14,7 @@
 
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/placement.hpp"
 #include "fuzzycsg/io/files.hpp"
@@ -977,6 +978,18 @@ std::string export_scad(const Tree& tree, std::span<const double> params,
   if (options.fn < 3 || options.fn > 10000) {
     throw OptionError("fn", fmt::format("must be in [3, 10000] (got {})", options.fn));
   }
+  const ClassifyOptions& c = options.classify;
+  if (!(c.tolerance >= 0 && c.tolerance < 1)) {
+    throw OptionError("classify.tolerance", fmt::format("must be in [0, 1) (got {})", c.tolerance));
+  }
+  if (c.samples < 1) {
+    throw OptionError("classify.samples", fmt::format("must be >= 1 (got {})", c.samples));
+  }
+  if (!(c.min_agreement >= 0 && c.min_agreement <= 1)) {
+    throw OptionError("classify.min_agreement",
+                      fmt::format("must be in [0, 1] (got {})", c.min_agreement));
+  }
+  check_threads(options.threads);
   const int max_resolution = kMaxMeshResolution - 4;
   if (options.resolution < 2 || options.resolution > max_resolution) {
     throw OptionError("resolution", fmt::format("must be in [2, {}] (got {})", max_resolution,

@@ -364,6 +364,13 @@ class StatementReader {
     } else {
       p.kind = CsgPrimitive::Kind::kCylinder;
       p.h = number(st, "h", 1);
+      // -1 below stands for "not given"; a radius or diameter given is checked first.
+      for (const char* name : {"r", "r1", "r2", "d", "d1", "d2"}) {
+        const double v = number(st, name, 0);
+        if (!(v >= 0) || !std::isfinite(v)) {
+          fail(st, fmt::format("{} must be a finite number >= 0 (got {})", name, v));
+        }
+      }
       double r1 = number(st, "r1", -1), r2 = number(st, "r2", -1);
       const double r = number(st, "r", -1);
       if (r1 < 0)

@@ -551,22 +551,44 @@ class MeshTarget final : public Target {
 
 std::unique_ptr<Target> load_mesh(const std::filesystem::path& path, const std::string& name,
                                   const TargetOptions& options) {
-  TriangleMesh mesh = read_mesh(path, name);
-  compact(mesh, name);
-  const Similarity normalisation = normalise(mesh, options.padding, name);
-  return std::make_unique<MeshTarget>(name, mesh, options.padding, normalisation,
-                                      thread_count(options.threads));
+  return mesh_target(read_mesh(path, name), name, options);
 }
 
 }  // namespace fuzzycsg::target_detail
 
 namespace fuzzycsg {
 
-TriangleMesh read_mesh_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  TriangleMesh mesh = target_detail::read_mesh(path, name);
+TriangleMesh joined_mesh(TriangleMesh mesh, const std::string& name) {
+  using target_detail::fail;
+  const std::size_t n = mesh.vertices.size();
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+    for (const int corner : mesh.triangles[f]) {
+      if (corner < 0 || static_cast<std::size_t>(corner) >= n) {
+        fail(name, fmt::format("face {} refers to vertex {}, but the mesh has {} vertices", f,
+                               corner, n));
+      }
+    }
+  }
+  if (mesh.triangles.empty()) fail(name, "no triangles");
   target_detail::compact(mesh, name);
   return mesh;
+}
+
+std::unique_ptr<Target> mesh_target(TriangleMesh mesh, const std::string& name,
+                                    const TargetOptions& options) {
+  if (!(options.padding >= 0.0 && options.padding < 1.0)) {
+    target_detail::fail(name, fmt::format("padding must be in [0, 1) (got {})", options.padding));
+  }
+  check_threads(options.threads);
+  mesh = joined_mesh(std::move(mesh), name);
+  const Similarity normalisation = target_detail::normalise(mesh, options.padding, name);
+  return std::make_unique<target_detail::MeshTarget>(name, mesh, options.padding, normalisation,
+                                                     thread_count(options.threads));
+}
+
+TriangleMesh read_mesh_file(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  return joined_mesh(target_detail::read_mesh(path, name), name);
 }
 
 }  // namespace fuzzycsg

@@ -196,14 +196,17 @@ TEST(DiffcsgOpenscad, DeepNestingIsRefusedNotAStackOverflow) {
 }
 
 // A model's triangles in all are bounded, as a primitive's fragments are: a few bytes asked for
-// any number of spheres of 4096 fragments (16777212 triangles each).
+// any number of spheres of 4096 fragments (16777212 triangles each), and one such sphere costs
+// minutes and gigabytes to draw.
 TEST(DiffcsgOpenscad, ModelsOfTooManyTrianglesAreRefusedBeforeTessellation) {
-  // Two spheres at the limit of fragments fit, with 8 triangles to spare (the tree reader
-  // tessellates nothing, so this costs nothing).
-  const std::string two = "sphere($fn = 4096, r = 1);\nsphere($fn = 4096, r = 2);\n";
-  EXPECT_EQ(tree_error(two, scad::kMaxOpenscadTriangles), "accepted");
-  EXPECT_EQ(tree_error(two + "cube(1);\n", scad::kMaxOpenscadTriangles),
-            "m.csg: line 3: cube: 33554436 triangles in the model with it, at most 33554432");
+  // A sphere of 2048 fragments fits the default budget (the tree reader tessellates nothing, so
+  // this costs nothing); one of 4096 does not, nor do two of 2048.
+  const std::string one = "sphere($fn = 2048, r = 1);\n";
+  EXPECT_EQ(tree_error(one, scad::kMaxOpenscadTriangles), "accepted");
+  EXPECT_EQ(tree_error("sphere($fn = 4096, r = 1);\n", scad::kMaxOpenscadTriangles),
+            "m.csg: line 1: sphere: 16777212 triangles in the model with it, at most 4194304");
+  EXPECT_EQ(tree_error(one + one, scad::kMaxOpenscadTriangles).substr(0, 22),
+            "m.csg: line 2: sphere:");
   // The count is the scene's: a cube (12), a sphere of 8 fragments (60) and a cone of 6 (10).
   const std::string small =
       "cube(1);\nsphere($fn = 8, r = 1);\ncylinder($fn = 6, h = 1, r1 = 1, r2 = 0);\n";

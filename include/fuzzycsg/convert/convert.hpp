@@ -114,6 +114,13 @@ struct ConvertResult {
 ConvertResult convert(const std::string& path, const ConvertOptions& options = {},
                       const ConvertHooks& hooks = {});
 
+// The same for a closed triangle mesh held in memory, in its own units (as read_mesh_file gives
+// a file's: converting a file's mesh gives the file's tree); `name` stands for it in errors and
+// in ConvertResult::target. Throws InputError naming it for a mesh that is not closed and
+// manifold, has indices outside its vertices or coordinates that are not finite.
+ConvertResult convert(const TriangleMesh& mesh, const ConvertOptions& options = {},
+                      const ConvertHooks& hooks = {}, const std::string& name = "mesh");
+
 // A mesh of a crisp tree of convert's solids (box, cylinder, cone, sphere, torus, half-space,
 // prism; a tree that convert writes): its 0.5 level set by marching cubes, `resolution` cells
 // along the longest side of its leaves' bounds, with each leaf's step a sigmoid about a cell

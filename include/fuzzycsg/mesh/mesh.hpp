@@ -59,7 +59,9 @@ struct MeshOptions {
   int threads = 0;  // 0: all hardware threads
 };
 
-inline constexpr int kMaxMeshResolution = 4096;
+// The finest grid: a closed surface at 2048 cells a side is tens of millions of triangles, about
+// a gigabyte (4096 took 3.3 GB and was unfinished after a minute on two cores).
+inline constexpr int kMaxMeshResolution = 2048;
 
 struct MeshStats {
   std::array<int, 3> cells{};        // grid cells per axis

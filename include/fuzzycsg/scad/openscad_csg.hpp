@@ -30,9 +30,10 @@ namespace fuzzycsg::scad {
 
 // The most fragments of a sphere or cylinder.
 inline constexpr int kMaxFragments = 4096;
-// The most triangles of a model by default: two spheres at the limit of fragments (a sphere of
-// 4096 fragments has 16777212 triangles), about a gigabyte of meshes.
-inline constexpr std::size_t kMaxOpenscadTriangles = std::size_t{1} << 25;
+// The most triangles of a model by default: 2^22, a sphere of 2048 fragments (4192252
+// triangles), about 130 MB of meshes, which DiffCSG draws in minutes on two cores; a sphere at
+// the limit of fragments (4096: 16777212 triangles) took 258 s and 6.6 GB to draw once.
+inline constexpr std::size_t kMaxOpenscadTriangles = std::size_t{1} << 22;
 
 // OpenSCAD's get_fragments_from_r, saturated at the largest int.
 int openscad_fragments(double r, double fn, double fs, double fa);

@@ -18,6 +18,12 @@ namespace fuzzycsg {
 // TriangleMesh's int indices can count (2^31 - 1).
 TriangleMesh read_mesh_file(const std::filesystem::path& path);
 
+// A mesh held in memory made as read_mesh_file makes a file's: vertices at identical positions
+// joined (no tolerance, whatever the part's size), unused ones dropped, the rest numbered in the
+// order the triangles first use them. Throws InputError naming `name` for a corner outside the
+// vertices, a coordinate that is not finite, or no triangles.
+TriangleMesh joined_mesh(TriangleMesh mesh, const std::string& name);
+
 // What keeps a mesh from being the closed, consistently oriented surface of a solid, judged by its
 // positions after two safe repairs, both of which only join what already touches:
 //   - Welding. Vertices within the tolerance of each other, 1e-9 of the diagonal of the box

@@ -52,6 +52,7 @@
 
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree.hpp"
+#include "fuzzycsg/core/triangle_mesh.hpp"
 
 namespace fuzzycsg {
 
@@ -98,6 +99,13 @@ struct TargetOptions {
 // Reads a target; throws InputError with a one-line message naming the file on unreadable,
 // empty or degenerate input (a mesh with no volume, an all-white picture, ...).
 std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options = {});
+
+// A closed triangle mesh held in memory as a target, as a mesh file is read (identical vertices
+// joined, normalised with options.padding; inside by a vote of rays); `name` names it in
+// describe() and in errors. Throws InputError for indices outside the vertices, coordinates
+// that are not finite, no triangles, or a mesh that encloses no volume.
+std::unique_ptr<Target> mesh_target(TriangleMesh mesh, const std::string& name,
+                                    const TargetOptions& options = {});
 
 // A tree held in memory as a target, as a tree file is read (its domain box is what
 // [-1, 1]^dim stands for; occupancy >= 0.5 is inside); `name` names it in describe().
