@@ -93,6 +93,20 @@ BatchJob read_job(const json& j, int line, const std::filesystem::path& base,
       }
     }
   }
+  // Files named in the options are found beside the manifest, as the input is.
+  for (std::size_t k = 0; k < job.options.size(); ++k) {
+    std::string& o = job.options[k];
+    const auto resolve = [&](const std::string& value) {
+      return value.empty() ? value
+                           : std::filesystem::absolute(base / value).lexically_normal().string();
+    };
+    if (o == "--target" && k + 1 < job.options.size()) {
+      job.options[k + 1] = resolve(job.options[k + 1]);
+      ++k;
+    } else if (o.starts_with("--target=")) {
+      o = "--target=" + resolve(o.substr(9));
+    }
+  }
   check_options(job, where);
   return job;
 }

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -96,7 +97,51 @@ fs::path tmp_root(const fs::path& out) { return out / ".tmp" / host_name(); }
 fs::path done_dir(const fs::path& out, const BatchJob& job) { return out / job.id; }
 fs::path failed_dir(const fs::path& out, const BatchJob& job) { return out / ".failed" / job.id; }
 
+namespace {
+
+// An exclusive lock on one job of OUTDIR (flock on OUTDIR/.batch/locks/ID), held while this
+// process runs it: a second batch on the same folder skips the job instead of running it again
+// or racing on its folders. Released when the process ends, however it ends.
+class JobLock {
+ public:
+  JobLock(const fs::path& out, const BatchJob& job) {
+    const fs::path dir = out / ".batch" / "locks";
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    fd_ = ::open((dir / job.id).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    held_ = fd_ >= 0 && ::flock(fd_, LOCK_EX | LOCK_NB) == 0;
+  }
+  ~JobLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  JobLock(const JobLock&) = delete;
+  JobLock& operator=(const JobLock&) = delete;
+  bool held() const { return held_; }
+
+ private:
+  int fd_ = -1;
+  bool held_ = false;
+};
+
+Finished run_locked(const BatchJob& job, const fs::path& out, int threads);
+
+}  // namespace
+
 Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
+  // A failure to record the job (a full disk, a folder in the way) fails the job, in words; it
+  // never escapes the worker thread that runs it.
+  try {
+    const JobLock lock(out, job);
+    if (!lock.held()) return {Outcome::kBusy, 0, "running in another batch"};
+    return run_locked(job, out, threads);
+  } catch (const std::exception& e) {
+    return {Outcome::kFailed, 0, std::string("not recorded: ") + e.what()};
+  }
+}
+
+namespace {
+
+Finished run_locked(const BatchJob& job, const fs::path& out, int threads) {
   static std::atomic<int> counter{0};
   const fs::path final_dir = done_dir(out, job);
   if (fs::exists(final_dir)) return {Outcome::kSkipped, 0, "done earlier"};
@@ -138,6 +183,8 @@ Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
   fs::remove_all(tmp);
   return {Outcome::kFailed, seconds, exit_status_text(code)};
 }
+
+}  // namespace
 
 void forward_termination_signals() {
   struct sigaction sa {};

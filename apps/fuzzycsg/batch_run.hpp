@@ -13,7 +13,8 @@
 
 namespace fuzzycsg::app {
 
-enum class Outcome { kDone, kSkipped, kFailed };
+// kBusy: another batch on the same OUTDIR is running the job.
+enum class Outcome { kDone, kSkipped, kBusy, kFailed };
 
 struct Finished {
   Outcome outcome = Outcome::kDone;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -71,13 +72,14 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, const Batch
   const bool tty = isatty(2) != 0 && !a.quiet;
   std::mutex mutex;
   std::atomic<std::size_t> next{0};
-  int done = 0, failed = 0, running = 0;
+  int done = 0, failed = 0, running = 0, busy = 0;
+  int elsewhere = 0;  // done by another batch on the same OUTDIR since this one began
   std::vector<const BatchJob*> failures;
   const auto start = std::chrono::steady_clock::now();
   const auto report = [&](const std::string& line) {  // under the mutex
     const double s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const int finished = done + failed;
+    const int finished = done + failed + busy + elsewhere;
     const double eta = finished > 0 ? s / finished * (pending.size() - finished) : 0.0;
     if (tty) {
       fmt::print(stderr, "\rbatch: {}/{} done, {} running, {} failed, {:.0f} s, ETA {:.0f} s   ",
@@ -97,12 +99,15 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, const Batch
       const Finished f = run_job(job, out, threads);
       const std::lock_guard lock(mutex);
       --running;
-      if (f.outcome == Outcome::kFailed) {
+      if (f.outcome == Outcome::kBusy) {
+        ++busy;
+        report(fmt::format("batch: {} {}", job.id, f.status));
+      } else if (f.outcome == Outcome::kFailed) {
         ++failed;
         failures.push_back(&job);
         report(fmt::format("batch: {} failed ({}, {:.1f} s)", job.id, f.status, f.seconds));
       } else {
-        ++done;
+        ++(f.outcome == Outcome::kSkipped ? elsewhere : done);
         report(tty ? "" : fmt::format("batch: {} {} ({:.1f} s)", job.id, f.status, f.seconds));
       }
     }
@@ -118,8 +123,10 @@ int run_local(const std::vector<BatchJob>& all, const fs::path& out, const Batch
                tail_of(failed_dir(out, *j) / "stderr.txt", 3));
   }
   if (!a.quiet) {
-    fmt::print("batch: {} jobs: {} done now, {} done earlier, {} failed; {}\n", all.size(), done,
-               all.size() - pending.size(), failed, out.string());
+    fmt::print("batch: {} jobs: {} done now, {} done earlier, {}{} failed; {}\n", all.size(), done,
+               all.size() - pending.size() + static_cast<std::size_t>(elsewhere),
+               busy > 0 ? fmt::format("{} left to another batch running them, ", busy) : "", failed,
+               out.string());
   }
   return failed > 0 ? 1 : 0;
 }
@@ -149,6 +156,19 @@ int run_batch(const BatchArgs& a) {
   const std::vector<BatchJob> jobs = read_batch_manifest(a.manifest);
   check_args(a, jobs.size(), a.manifest);
   const fs::path out(a.out);
+  for (const std::string* path : {&a.out, &a.manifest}) {
+    // Written into the Slurm script and into job records: a newline there would be a command.
+    if (std::any_of(path->begin(), path->end(),
+                    [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
+      std::string shown;
+      for (const char c : *path) {
+        shown +=
+            static_cast<unsigned char>(c) < 0x20 ? fmt::format("\\x{:02x}", c) : std::string(1, c);
+      }
+      throw InputError(
+          fmt::format("{}: a path with a control character (a newline?) is refused", shown));
+    }
+  }
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError(fmt::format("{}: cannot create", a.out));

@@ -82,6 +82,33 @@ assert all(os.listdir(d) == [] for d in glob.glob(os.path.join(out, ".tmp", "*")
 PY
 then ok; else bad "rerun after kill -9"; fi
 
+# Two batches on one OUTDIR at once: each job runs once (the other batch skips it while it runs),
+# neither aborts, and every job ends done with its records whole.
+manifest 6 600 >"$tmp/two.jsonl"
+"$bin" batch "$tmp/two.jsonl" -o "$tmp/two" --jobs 2 >"$tmp/two1.out" 2>"$tmp/two1.err" &
+first_batch=$!
+"$bin" batch "$tmp/two.jsonl" -o "$tmp/two" --jobs 2 >"$tmp/two2.out" 2>"$tmp/two2.err"
+rc2=$?
+wait "$first_batch"
+rc1=$?
+if [[ $rc1 -eq 0 && $rc2 -eq 0 ]] && python3 - "$tmp/two" "$tmp/two1.out" "$tmp/two2.out" <<'PY'
+import json, os, re, sys
+out = sys.argv[1]
+ids = sorted(d for d in os.listdir(out) if not d.startswith("."))
+assert ids == [f"disc-s{i}" for i in range(6)], ids
+for i in ids:
+    assert json.load(open(os.path.join(out, i, "job.json")))["status"] == "done"
+assert not os.path.exists(os.path.join(out, ".failed"))
+now = [int(re.search(r"(\d+) done now", open(f).read()).group(1)) for f in sys.argv[2:]]
+assert sum(now) == 6, now
+PY
+then ok; else bad "two batches on one OUTDIR (exit $rc1, $rc2): $(cat "$tmp/two1.err" "$tmp/two2.err")"; fi
+# A newline in OUTDIR would be a command in the Slurm script: refused, nothing created.
+expect_error "control character" "$bin" batch "$tmp/m.jsonl" -o "$tmp/new
+line" --slurm
+[[ -e "$tmp/new
+line" ]] && bad "a refused OUTDIR was created" || ok
+
 # A job that fails is kept apart with its stderr, named at the end, and tried again.
 printf '{"format": "fuzzycsg-tree", "version": 1, "dim": 2, "root": {"type": "circle", "radius": 0.5}}\n' \
   >"$tmp/parts/late.json"
