@@ -47,6 +47,9 @@ trace-P trace $data/glyphs/DejaVuSans-Bold_U0050_P.png -o OUT --population 12 --
 morph-Pb morph $data/glyphs/DejaVuSans-Bold_U0050_P.png $data/glyphs/DejaVuSerif-Bold_U0062_b.png -o OUT --population 8 --max-trees 20 --patience 20 --iterations 5 --frames 3 --threads 2 --seed 1 -q
 refine-csg refine $data/scad/Old/example004.openscad.csg --target $data/scad/Old/example004.ref.off -o OUT --size 32 --views 2 --iters 5 --threads 2 -q
 demo-gradient demo --gradient --resolution 16
+convert-hole convert $data/meshes/cad/cgal_hole.off -o OUT/conv --seed 3 --threads 2 -q
+convert-csg convert $data/scad/Old/example004.openscad.csg -o OUT/conv --threads 2 -q
+convert-P convert $data/glyphs/DejaVuSans-Bold_U0050_P.png -o OUT/conv --threads 2 -q
 CMDS
 }
 

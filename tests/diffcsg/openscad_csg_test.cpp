@@ -140,7 +140,7 @@ TEST(DiffcsgOpenscad, UnsupportedNodesAndBrokenTextAreRefusedNamingTheLine) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_NO_THROW(parse_openscad_csg("sphere($fn = 4096, r = 1);", "m.csg"));
+  EXPECT_NO_THROW(parse_openscad_csg("sphere($fn = 2048, r = 1);", "m.csg"));
   refused("%cube(1);", "no primitives");
   EXPECT_EQ(parse_openscad_csg("*sphere(1); #cube(1); !cylinder(h = 1, r = 1);", "m.csg")
                 .primitives.size(),

@@ -74,7 +74,10 @@ TEST(TraceSearch, OptionsOutOfRangeAreRefusedNamingTheField) {
   refused(o, "k");
   o = {};
   o.initial_size = 0.5;
-  refused(o, "initial-size");
+  refused(o, "initial_size");
+  o = {};
+  o.population = 100000000;  // memory grows with population x pixels
+  refused(o, "population");
   o = {};
   o.patience = 0;
   refused(o, "patience");

@@ -22,12 +22,15 @@
 //                     bounding_box.
 //   numbers.hpp       printing numbers for people and files.
 //   error.hpp         Error and InputError (one-line messages naming the source).
+//   limits.hpp        threads an option asks for, checked and counted (core starts none), and
+//                     stopwatches and saturating deadlines on the steady clock.
 
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/bspline.hpp"
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/fields.hpp"
+#include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/core/logic.hpp"
 #include "fuzzycsg/core/numbers.hpp"
 #include "fuzzycsg/core/placement.hpp"
