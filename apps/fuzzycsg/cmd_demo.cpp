@@ -223,7 +223,9 @@ Verb register_demo(CLI::App& app) {
       ->check(CLI::Range(0L, 10'000'000L));
   cmd->add_option("--prims", args->prims, "--fit: quadrics (a power of two)")
       ->capture_default_str();
-  cmd->add_option("--seed", args->seed, "Random seed")->capture_default_str()->check(unsigned_number());
+  cmd->add_option("--seed", args->seed, "Random seed")
+      ->capture_default_str()
+      ->check(unsigned_number());
   cmd->add_flag("--gradient", args->gradient,
                 "Instead: evaluate a box with a hole, its volume and gradient");
   cmd->add_option("--resolution", args->resolution, "--gradient: grid cells per axis")

@@ -457,7 +457,9 @@ Verb register_fit(CLI::App& app) {
   model.push_back(cmd->add_option("--type-search-points", o->type_search_points,
                                   "Points of each of a type search's two samples")
                       ->capture_default_str());
-  model.push_back(cmd->add_option("--seed", o->seed, "Random seed")->capture_default_str()->check(unsigned_number()));
+  model.push_back(cmd->add_option("--seed", o->seed, "Random seed")
+                      ->capture_default_str()
+                      ->check(unsigned_number()));
   model.push_back(cmd->add_option("--surface", o->sampling.surface,
                                   "Fraction of training points on the surface")
                       ->capture_default_str());

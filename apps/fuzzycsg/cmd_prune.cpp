@@ -118,7 +118,9 @@ Verb register_prune(CLI::App& app) {
                   "40% near the surface, 20% uniform)")
       ->capture_default_str()
       ->check(CLI::IsMember({"uniform", "target"}));
-  cmd->add_option("--seed", a->seed, "Random seed")->capture_default_str()->check(unsigned_number());
+  cmd->add_option("--seed", a->seed, "Random seed")
+      ->capture_default_str()
+      ->check(unsigned_number());
   cmd->add_option("--padding", a->padding, "Meshes: margin around the normalised shape")
       ->capture_default_str();
   cmd->add_option("--image-resolution", a->image_resolution,

@@ -233,7 +233,9 @@ Verb register_refine(CLI::App& app) {
   cmd->add_option("--random-views", a->random_views,
                   "Train on one random view, drawn anew every K steps (model and mesh targets)")
       ->capture_default_str();
-  cmd->add_option("--seed", a->seed, "Seed of the random views")->capture_default_str()->check(unsigned_number());
+  cmd->add_option("--seed", a->seed, "Seed of the random views")
+      ->capture_default_str()
+      ->check(unsigned_number());
   cmd->add_option("--elevation", a->elevation, "Cameras' elevation, degrees")
       ->capture_default_str();
   cmd->add_option("--distance", a->distance, "Cameras' distance (0: the target fills the view)")

@@ -122,8 +122,7 @@ std::string read_text_file(const std::filesystem::path& path) {
     if (n == 0) break;
     if (text.size() + static_cast<std::size_t>(n) > kMaxFileBytes) {
       ::close(fd);
-      throw InputError(display_name(path) + ": larger than " +
-                       std::to_string(kMaxFileBytes >> 30) +
+      throw InputError(display_name(path) + ": larger than " + std::to_string(kMaxFileBytes >> 30) +
                        " GiB, the most fuzzycsg reads of one file");
     }
     text.append(buffer, static_cast<std::size_t>(n));
