@@ -123,24 +123,6 @@ class JobLock {
   bool held_ = false;
 };
 
-Finished run_locked(const BatchJob& job, const fs::path& out, int threads);
-
-}  // namespace
-
-Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
-  // A failure to record the job (a full disk, a folder in the way) fails the job, in words; it
-  // never escapes the worker thread that runs it.
-  try {
-    const JobLock lock(out, job);
-    if (!lock.held()) return {Outcome::kBusy, 0, "running in another batch"};
-    return run_locked(job, out, threads);
-  } catch (const std::exception& e) {
-    return {Outcome::kFailed, 0, std::string("not recorded: ") + e.what()};
-  }
-}
-
-namespace {
-
 Finished run_locked(const BatchJob& job, const fs::path& out, int threads) {
   static std::atomic<int> counter{0};
   const fs::path final_dir = done_dir(out, job);
@@ -185,6 +167,18 @@ Finished run_locked(const BatchJob& job, const fs::path& out, int threads) {
 }
 
 }  // namespace
+
+Finished run_job(const BatchJob& job, const fs::path& out, int threads) {
+  // A failure to record the job (a full disk, a folder in the way) fails the job, in words; it
+  // never escapes the worker thread that runs it.
+  try {
+    const JobLock lock(out, job);
+    if (!lock.held()) return {Outcome::kBusy, 0, "running in another batch"};
+    return run_locked(job, out, threads);
+  } catch (const std::exception& e) {
+    return {Outcome::kFailed, 0, std::string("not recorded: ") + e.what()};
+  }
+}
 
 void forward_termination_signals() {
   struct sigaction sa {};

@@ -33,23 +33,9 @@ std::string shell_quote(const std::string& s) {
 
 fs::path slurm_dir(const fs::path& out) { return out / ".slurm"; }
 
-// A path written into the script: a control character (a newline above all) would end an
-// #SBATCH line or the command and start a line of the shell's own.
-void check_script_path(const fs::path& path, const char* what) {
-  const std::string s = path.string();
-  if (std::any_of(s.begin(), s.end(),
-                  [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
-    throw InputError(
-        fmt::format("{}: the {} path holds a control character (a newline?), which "
-                    "a Slurm script cannot hold safely",
-                    s, what));
-  }
-}
-
 std::string sbatch_script(const fs::path& manifest, const fs::path& out) {
-  check_script_path(manifest, "manifest's");
-  check_script_path(out, "output folder's");
-  check_script_path(fs::read_symlink("/proc/self/exe"), "program's");
+  // The manifest and OUTDIR were checked by the verb before anything was created.
+  refuse_control_characters(fs::read_symlink("/proc/self/exe").string(), "the program");
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const fs::path logs = slurm_dir(out) / "logs";
   return fmt::format(

@@ -156,19 +156,9 @@ int run_batch(const BatchArgs& a) {
   const std::vector<BatchJob> jobs = read_batch_manifest(a.manifest);
   check_args(a, jobs.size(), a.manifest);
   const fs::path out(a.out);
-  for (const std::string* path : {&a.out, &a.manifest}) {
-    // Written into the Slurm script and into job records: a newline there would be a command.
-    if (std::any_of(path->begin(), path->end(),
-                    [](char c) { return static_cast<unsigned char>(c) < 0x20; })) {
-      std::string shown;
-      for (const char c : *path) {
-        shown +=
-            static_cast<unsigned char>(c) < 0x20 ? fmt::format("\\x{:02x}", c) : std::string(1, c);
-      }
-      throw InputError(
-          fmt::format("{}: a path with a control character (a newline?) is refused", shown));
-    }
-  }
+  // Both are written into the Slurm script and the job records.
+  refuse_control_characters(a.out, "the output folder");
+  refuse_control_characters(a.manifest, "the manifest");
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError(fmt::format("{}: cannot create", a.out));

@@ -54,6 +54,15 @@ std::string flag_for(const std::string& field) {
   return flag;
 }
 
+void refuse_control_characters(const std::string& path, const std::string& what) {
+  const auto control = [](char c) { return static_cast<unsigned char>(c) < 0x20; };
+  if (std::none_of(path.begin(), path.end(), control)) return;
+  std::string shown;
+  for (const char c : path) shown += control(c) ? fmt::format("\\x{:02x}", c) : std::string(1, c);
+  throw InputError(
+      fmt::format("{}: {}: a path with a control character (a newline?) is refused", shown, what));
+}
+
 const CLI::Validator& unsigned_number() {
   static const CLI::Validator v(
       [](std::string& text) {

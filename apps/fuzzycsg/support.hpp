@@ -34,6 +34,10 @@ class CommandError : public Error {
   using Error::Error;
 };
 
+// Throws InputError when a path holds a control character (a newline, above all), which would
+// end a line of a script or a record it is written into; the path is shown with them escaped.
+void refuse_control_characters(const std::string& path, const std::string& what);
+
 // A whole number >= 0 (a seed, a count): "-1" refused, where an unsigned option would otherwise
 // take it as 2^64 - 1.
 const CLI::Validator& unsigned_number();

@@ -83,11 +83,14 @@ void OutputDir::check() const {
     }
     if (ec) throw InputError(shown + ": cannot read the output folder (" + ec.message() + ")");
   }
-  const fs::path parent = dir_.parent_path();
-  fs::create_directories(parent, ec);
-  if (ec || ::access(parent.c_str(), W_OK | X_OK) != 0) {
-    throw InputError(shown + ": cannot create the output folder (" +
-                     (ec ? ec.message() : std::string(std::strerror(errno))) + ")");
+  // Nothing is created before the work: the nearest folder above it that exists must let us
+  // create what is missing below it.
+  fs::path above = dir_.parent_path();
+  while (!above.empty() && !fs::exists(above, ec)) above = above.parent_path();
+  if (above.empty()) above = fs::current_path();
+  if (!fs::is_directory(above, ec) || ::access(above.c_str(), W_OK | X_OK) != 0) {
+    throw InputError(shown + ": cannot create the output folder (" + above.string() +
+                     (fs::is_directory(above, ec) ? " is not writable)" : " is not a folder)"));
   }
 }
 
@@ -108,6 +111,8 @@ void OutputDir::commit() {
     throw InputError("cannot write " + dir_.string() + ": " + reason);
   };
   std::error_code ec;
+  fs::create_directories(dir_.parent_path(), ec);
+  if (ec) fail(ec.message());
   if (!fs::create_directory(temp, ec)) fail(ec ? ec.message() : "exists");
   try {
     for (const auto& [name, bytes] : files_) write_text_file_atomic(temp / name, bytes);

@@ -576,10 +576,7 @@ TriangleMesh joined_mesh(TriangleMesh mesh, const std::string& name) {
 
 std::unique_ptr<Target> mesh_target(TriangleMesh mesh, const std::string& name,
                                     const TargetOptions& options) {
-  if (!(options.padding >= 0.0 && options.padding < 1.0)) {
-    target_detail::fail(name, fmt::format("padding must be in [0, 1) (got {})", options.padding));
-  }
-  check_threads(options.threads);
+  target_detail::check_options(name, options);
   mesh = joined_mesh(std::move(mesh), name);
   const Similarity normalisation = target_detail::normalise(mesh, options.padding, name);
   return std::make_unique<target_detail::MeshTarget>(name, mesh, options.padding, normalisation,

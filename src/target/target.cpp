@@ -46,9 +46,7 @@ std::size_t uniform_index(Rng& rng, std::size_t n) {
 
 }  // namespace target_detail
 
-namespace {
-
-using target_detail::fail;
+namespace target_detail {
 
 void check_options(const std::string& name, const TargetOptions& options) {
   if (!(options.padding >= 0.0 && options.padding < 1.0)) {
@@ -57,9 +55,12 @@ void check_options(const std::string& name, const TargetOptions& options) {
   if (options.threads < 0) {
     fail(name, fmt::format("threads must be >= 0 (got {})", options.threads));
   }
+  check_threads(options.threads);
 }
 
-}  // namespace
+}  // namespace target_detail
+
+using target_detail::fail;
 
 void Target::sample_distance_weighted(std::size_t, Rng&, std::vector<float>&) const {
   throw OptionError("sampling.scheme",
@@ -86,7 +87,7 @@ std::optional<SamplingScheme> sampling_scheme_from_name(std::string_view name) {
 std::unique_ptr<Target> load_target(const std::string& path, const TargetOptions& options) {
   const std::filesystem::path file(path);
   const std::string& name = path;
-  check_options(name, options);
+  target_detail::check_options(name, options);
   const std::string ext = target_detail::lowercase_extension(file);
   if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off") {
     return target_detail::load_mesh(file, name, options);

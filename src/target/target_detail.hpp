@@ -20,6 +20,10 @@ std::unique_ptr<Target> load_image(const std::filesystem::path& path, const std:
 std::unique_ptr<Target> load_tree(const std::filesystem::path& path, const std::string& name,
                                   const TargetOptions& options);
 
+// Throws InputError naming the target for a padding outside [0, 1) or a negative thread count,
+// and OptionError("threads") for more than kMaxThreads.
+void check_options(const std::string& name, const TargetOptions& options);
+
 // Throws InputError("NAME: problem").
 [[noreturn]] void fail(const std::string& name, const std::string& problem);
 

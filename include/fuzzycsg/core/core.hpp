@@ -23,7 +23,7 @@
 //   numbers.hpp       printing numbers for people and files.
 //   error.hpp         Error and InputError (one-line messages naming the source).
 //   limits.hpp        threads an option asks for, checked and counted (core starts none), and
-//                     stopwatches and saturating deadlines on the steady clock.
+//                     saturating deadlines on the steady clock.
 
 #include "fuzzycsg/core/bezier.hpp"
 #include "fuzzycsg/core/bspline.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Limits a caller puts on a run: the threads an option asks for, checked and counted (core
-// starts no thread itself), and time on the steady clock: stopwatches and deadlines that hold
-// for any number of seconds, infinity included.
+// starts no thread itself), and deadlines on the steady clock that hold for any number of
+// seconds, infinity included.
 
 #include <chrono>
 #include <string>
@@ -19,20 +19,6 @@ void check_threads(int threads, const std::string& field = "threads");
 int thread_count(int threads, const std::string& field = "threads");
 
 using SteadyClock = std::chrono::steady_clock;
-
-// Seconds since it was started (or restarted).
-class Stopwatch {
- public:
-  Stopwatch() : start_(SteadyClock::now()) {}
-  void restart() { start_ = SteadyClock::now(); }
-  SteadyClock::time_point start() const { return start_; }
-  double seconds() const {
-    return std::chrono::duration<double>(SteadyClock::now() - start_).count();
-  }
-
- private:
-  SteadyClock::time_point start_;
-};
 
 // `seconds` after `start`: the clock's last point (never reached) when that is past what the
 // clock can hold (infinity, 1e300), and `start` itself for seconds <= 0 or NaN.
