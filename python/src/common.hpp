@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,12 @@ py::array_t<T> to_numpy(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
   const py::capsule free_when_done(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
   return py::array_t<T>(shape, owner->data(), free_when_done);
 }
+
+// Runs `work`, which must not touch Python objects, on a thread of its own while this thread
+// waits with the GIL released and checks for signals every 50 ms: on Ctrl-C the engines are asked
+// to stop (request_cancel), waited for, and KeyboardInterrupt is raised. An engine's call would
+// otherwise hold the interpreter's main thread for as long as it runs.
+void interruptible(const std::function<void()>& work);
 
 // The parts of the module.
 void register_tree(py::module_& m);

@@ -315,8 +315,7 @@ py::dict run_fit(const py::object& target, const FitOptions& o, const TargetOpti
   validate(o, t->dim());
   FitResult r;
   {
-    py::gil_scoped_release release;
-    r = fit(*t, o);
+    interruptible([&] { r = fit(*t, o); });
   }
   // In the target's own coordinates, as `fuzzycsg fit` writes them.
   const Similarity back = t->normalisation().inverse();
@@ -347,8 +346,7 @@ py::dict run_convert(const py::object& path, const convert::ConvertOptions& o) {
   const std::string p = path_of(path, "target");
   convert::ConvertResult r;
   {
-    py::gil_scoped_release release;
-    r = convert::convert(p, o);
+    interruptible([&] { r = convert::convert(p, o); });
   }
   return convert_dict(r, o, std::filesystem::path(p).filename().string());
 }
@@ -403,8 +401,7 @@ py::dict run_convert_mesh(const py::handle& vertices, const py::handle& faces,
   }
   convert::ConvertResult r;
   {
-    py::gil_scoped_release release;
-    r = convert::convert(mesh, o, {}, name);
+    interruptible([&] { r = convert::convert(mesh, o, {}, name); });
   }
   return convert_dict(r, o, name);
 }
@@ -422,8 +419,7 @@ py::tuple run_prune(const Tree& tree, const py::object& points, const PruneOptio
   PruneReport report;
   Tree pruned;
   {
-    py::gil_scoped_release release;
-    pruned = prune(snap_operators(tree), pts, o, &report);
+    interruptible([&] { pruned = prune(snap_operators(tree), pts, o, &report); });
   }
   py::dict d;
   d["primitives_before"] = report.primitives_before;
@@ -455,9 +451,10 @@ py::dict run_trace(const py::object& picture, const trace::SearchOptions& so, bo
   trace::SearchResult s;
   std::optional<trace::RefineResult> rr;
   {
-    py::gil_scoped_release release;
-    s = trace::search(target, so);
-    if (refine) rr = trace::refine(s.best, target, ro);
+    interruptible([&] {
+      s = trace::search(target, so);
+      if (refine) rr = trace::refine(s.best, target, ro);
+    });
   }
   const trace::CsgTree& best = rr ? rr->tree : s.best;
   py::dict d;
@@ -495,11 +492,12 @@ py::dict run_refine(const py::object& model, const py::object& target,
   std::string kind;
   const std::string target_path = path_of(target, "target");
   {
-    py::gil_scoped_release release;
-    const diffcsg::LoadedTarget t =
-        diffcsg::load_refine_target(target_path, views, m.tessellation, scene);
-    kind = t.kind;
-    r = diffcsg::refine(m.tree, t.target, o, m.tessellation);
+    interruptible([&] {
+      const diffcsg::LoadedTarget t =
+          diffcsg::load_refine_target(target_path, views, m.tessellation, scene);
+      kind = t.kind;
+      r = diffcsg::refine(m.tree, t.target, o, m.tessellation);
+    });
   }
   py::dict d;
   d["tree"] = r.tree;
@@ -533,9 +531,10 @@ py::object run_mesh(const Tree& tree, const MeshOptions& o, const py::object& pa
   TriangleMesh mesh;
   const std::string file = path.is_none() ? std::string() : path_of(path, "path");
   {
-    py::gil_scoped_release release;
-    mesh = extract_mesh(tree, params, o);
-    if (!file.empty()) write_mesh(mesh, file);
+    interruptible([&] {
+      mesh = extract_mesh(tree, params, o);
+      if (!file.empty()) write_mesh(mesh, file);
+    });
   }
   std::vector<double> v;
   for (const auto& p : mesh.vertices) v.insert(v.end(), {p[0], p[1], p[2]});

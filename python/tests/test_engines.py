@@ -169,3 +169,30 @@ def test_threads_out_of_range_are_option_errors(threads):
     vertices, triangles = fuzzycsg.mesh(tree, resolution=16)
     with pytest.raises(fuzzycsg.OptionError, match="^threads: must be in 0..256"):
         fuzzycsg.convert(vertices, triangles, threads=threads)
+
+
+def _interrupt_after(seconds):
+    import os, signal, threading
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+def test_ctrl_c_interrupts_the_engines_and_leaves_them_usable(source):
+    """SIGINT during an engine call raises KeyboardInterrupt once the engine has stopped at its
+    next step (a fit of ten million steps, a conversion of a CAD part), and the next call runs."""
+    import time
+    disc = fuzzycsg.Tree.from_json(DISC)
+    start = time.monotonic()
+    _interrupt_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        fuzzycsg.fit(disc, prims=4, iters=10**7, batch=512, threads=2,
+                     metrics={"points": 20000, "chamfer": False})
+    assert time.monotonic() - start < 60  # ten million steps take hours
+    mesh = source / "tests" / "data" / "meshes" / "cad" / "cgal_couplingdown.off"
+    _interrupt_after(1.0)
+    with pytest.raises(KeyboardInterrupt):
+        fuzzycsg.convert(mesh, threads=2, time_limit=3600)
+    r = fuzzycsg.fit(disc, prims=4, iters=20, batch=256, threads=2,
+                     metrics={"points": 2000, "chamfer": False})
+    assert r.steps == 20

@@ -9,6 +9,8 @@
 #include <map>
 #include <memory>
 
+#include "fuzzycsg/core/limits.hpp"
+
 namespace fuzzycsg::convert {
 
 namespace {
@@ -284,6 +286,7 @@ class Greedy {
     bool carved = false;
     std::vector<ChainStep> steps;
     for (int step = 0; step < options_.max_steps; ++step) {
+      check_cancelled();
       if (step > 0 && options_.deadline && std::chrono::steady_clock::now() > *options_.deadline) {
         break;
       }

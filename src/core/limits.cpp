@@ -1,6 +1,7 @@
 #include "fuzzycsg/core/limits.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <thread>
@@ -8,6 +9,17 @@
 #include "fuzzycsg/core/error.hpp"
 
 namespace fuzzycsg {
+
+namespace {
+std::atomic<bool> g_cancel{false};
+}  // namespace
+
+void request_cancel() { g_cancel.store(true, std::memory_order_relaxed); }
+void clear_cancel() { g_cancel.store(false, std::memory_order_relaxed); }
+bool cancel_requested() { return g_cancel.load(std::memory_order_relaxed); }
+void check_cancelled() {
+  if (cancel_requested()) throw Cancelled();
+}
 
 void check_threads(int threads, const std::string& field) {
   if (threads < 0 || threads > kMaxThreads) {

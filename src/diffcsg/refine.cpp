@@ -432,6 +432,7 @@ RefineResult refine(const Tree& input, const RefineTarget& target, const RefineO
   std::vector<ViewPass> passes;  // reused from step to step
   Image grad_image;
   for (int step = 0;; ++step) {
+    check_cancelled();
     tree.params.set_values(params);
     PreparedScene ps =
         prepare_scene(scene_from_tree(tree, "refine", tessellation), o.intersection_aa);

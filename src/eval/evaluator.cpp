@@ -185,6 +185,7 @@ std::size_t Evaluator::num_params() const { return impl_->program.num_params(); 
 
 void Evaluator::forward(std::span<const double> params, std::span<const float> points,
                         std::span<float> out) const {
+  check_cancelled();
   const Impl& im = *impl_;
   const std::size_t n = im.point_count(points, "forward");
   if (out.size() != n) {
@@ -210,6 +211,7 @@ void Evaluator::forward(std::span<const double> params, std::span<const float> p
 double Evaluator::backward(std::span<const double> params, std::span<const float> points,
                            const Loss& loss, std::span<double> grad, std::span<float> occupancy,
                            std::span<float> point_grad) const {
+  check_cancelled();
   const Impl& im = *impl_;
   const std::size_t n = im.point_count(points, "backward");
   if (grad.size() != im.program.num_params()) {

@@ -149,6 +149,7 @@ RefineResult refine(const CsgTree& input, const Bitmap& target, const RefineOpti
     }
   };
   for (int step = 0; step < iters; ++step) {
+    check_cancelled();
     if (o.time_limit > 0 &&
         std::chrono::duration<double>(Clock::now() - start).count() > o.time_limit) {
       break;

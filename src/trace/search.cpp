@@ -365,6 +365,7 @@ typename Problem::Candidate hill_climb(const Problem& problem, const SearchOptio
       stats.stopped_by = "patience";
       break;
     }
+    check_cancelled();
     if (out_of_time()) {
       stats.stopped_by = "time-limit";
       break;

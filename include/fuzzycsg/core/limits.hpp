@@ -6,6 +6,8 @@
 #include <chrono>
 #include <string>
 
+#include "fuzzycsg/core/error.hpp"
+
 namespace fuzzycsg {
 
 // The most threads an option may ask for: oneTBB's own limit on the threads of one arena.
@@ -17,6 +19,22 @@ void check_threads(int threads, const std::string& field = "threads");
 // The threads a run uses: `threads` when > 0, else the hardware's (at least 1, at most
 // kMaxThreads). Checked as check_threads does.
 int thread_count(int threads, const std::string& field = "threads");
+
+// Cancellation: a program asks every engine running in the process to stop (the Python module
+// does on Ctrl-C, whose signal the interpreter only sees between Python's own steps). The
+// engines call check_cancelled() between their steps: the evaluator at each forward and
+// backward pass, the searches of convert and trace and the refinements at each step. It throws
+// Cancelled, which the program that asked catches; nothing an engine writes is half done, since
+// results are handed back only when it returns.
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("cancelled") {}
+};
+void request_cancel();
+void clear_cancel();
+bool cancel_requested();
+// Throws Cancelled when a cancellation was requested (and not cleared since).
+void check_cancelled();
 
 using SteadyClock = std::chrono::steady_clock;
 
