@@ -115,6 +115,9 @@ int run_convert_job(const ConvertJob& a) {
 #endif
   for (const auto& [name, bytes] : a.also_write) out.add(name, bytes);
   out.commit();
+  for (const std::string& warning : r.warnings) {
+    fmt::print(stderr, "convert: {}: warning: {}\n", a.target, warning);
+  }
   if (!r.reached || r.time_limit_reached) {
     fmt::print(
         stderr, "convert: {}: {}{}; the best tree found is written\n", a.target,

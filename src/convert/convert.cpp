@@ -1,5 +1,7 @@
 #include "fuzzycsg/convert/convert.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -16,6 +18,7 @@
 #include "convert/program.hpp"
 #include "convert/refine.hpp"
 #include "convert/search.hpp"
+#include "convert/self_intersect.hpp"
 #include "convert/tidy.hpp"
 #include "fuzzycsg/convert/detect.hpp"
 #include "fuzzycsg/core/error.hpp"
@@ -72,6 +75,7 @@ class Stages {
 struct LoadedInput {
   std::unique_ptr<Target> target;
   TriangleMesh mesh;  // the target's surface in its own coordinates
+  std::vector<std::string> warnings;
 };
 
 // A mesh checked closed and manifold, and its target. A surface that bounds no solid would give
@@ -82,6 +86,14 @@ LoadedInput mesh_input(TriangleMesh mesh, const std::string& name, const Convert
   in.mesh = joined_mesh(std::move(mesh), name);
   if (const std::optional<std::string> defect = mesh_defect(in.mesh)) {
     throw InputError(name + ": " + *defect);
+  }
+  if (const std::optional<std::size_t> crossing = crossing_triangle_pairs(in.mesh);
+      crossing && *crossing > 0) {
+    in.warnings.push_back(fmt::format(
+        "the mesh intersects itself ({} pairs of triangles cross): where its pieces overlap it "
+        "counts as outside, so the part is converted as the exclusive or of its pieces; merge "
+        "them (a union) first",
+        *crossing));
   }
   TargetOptions target_options;
   target_options.padding = options.padding;
@@ -263,6 +275,7 @@ void convert_loaded(LoadedInput input, const std::string& name, const ConvertOpt
   result.target = target->describe();
   result.normalisation = target->normalisation();
   result.target_mesh = std::move(input.mesh);
+  result.warnings = std::move(input.warnings);
   const TriangleMesh mesh = mapped(result.target_mesh, result.normalisation);
   stages.end();
 

@@ -30,6 +30,7 @@ std::string report_json(const ConvertResult& r, const ConvertOptions& o) {
   j["metrics"] = metrics;
   j["reached"] = r.reached;
   j["time_limit_reached"] = r.time_limit_reached;
+  j["warnings"] = r.warnings;
   j["primitives"] = r.primitives;
   ordered_json kinds = ordered_json::object();
   const std::vector<double> params = r.tree.params.values();

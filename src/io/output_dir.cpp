@@ -31,11 +31,11 @@ fs::path temp_beside(const fs::path& dir) {
                               "-" + std::to_string(counter.fetch_add(1)));
 }
 
-// The folder with its trailing separators dropped ("out/" is "out").
+// The folder as an absolute path (so that "out" has a parent to put its temporary beside),
+// with its trailing separators dropped ("out/" is "out").
 fs::path normal(const fs::path& dir) {
-  fs::path d = dir.lexically_normal();
+  fs::path d = fs::absolute(dir).lexically_normal();
   if (!d.has_filename()) d = d.parent_path();
-  if (d.empty() || d == ".") d = fs::current_path();
   return d;
 }
 

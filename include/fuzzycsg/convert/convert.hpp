@@ -102,7 +102,9 @@ struct ConvertResult {
   // quarter of the tolerances, or not at all.
   bool tidy_finer = false;
   bool time_limit_reached = false;  // some stage ended early (ConvertOptions::time_limit)
-  bool reached = true;              // metrics.iou >= ConvertOptions::warn_iou
+  // What the result should be read with, one line each: a mesh that intersects itself.
+  std::vector<std::string> warnings;
+  bool reached = true;  // metrics.iou >= ConvertOptions::warn_iou
   std::vector<StageTime> stages;
   double seconds = 0;
 };
