@@ -17,10 +17,10 @@
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/snap.hpp"
 #include "fuzzycsg/core/transform.hpp"
-#include "fuzzycsg/fit/metrics.hpp"
 #include "fuzzycsg/fit/prune.hpp"
 #include "fuzzycsg/io/files.hpp"
 #include "fuzzycsg/io/tree_json.hpp"
+#include "fuzzycsg/target/metrics.hpp"
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg::app {

@@ -6,16 +6,14 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 
-#include "fit/point_cloud.hpp"
 #include "fuzzycsg/core/error.hpp"
+#include "fuzzycsg/target/nearest.hpp"
 
 namespace fuzzycsg {
 
 namespace {
-
-using fit_detail::Cloud;
-using fit_detail::KdTree;
 
 double uniform01(Rng& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
@@ -28,45 +26,33 @@ void set(std::span<double> params, ParamRef r, double v) { params[r.index] = v; 
 }  // namespace
 
 struct BoundaryDistance::Impl {
-  int dim = 3;
-  std::vector<float> points, normals;
-  std::unique_ptr<KdTree> index;
-  std::unique_ptr<Cloud> cloud;
+  std::vector<float> normals;
+  std::optional<NearestPoints> points;
 };
 
 BoundaryDistance::BoundaryDistance(const Target& target, std::size_t samples, Rng& rng)
     : impl_(std::make_unique<Impl>()) {
-  impl_->dim = target.dim();
-  target.sample_boundary(std::max<std::size_t>(samples, 1), rng, impl_->points, impl_->normals);
-  impl_->cloud =
-      std::make_unique<Cloud>(Cloud{impl_->points, static_cast<std::size_t>(impl_->dim)});
-  impl_->index = std::make_unique<KdTree>(impl_->dim, *impl_->cloud);
+  std::vector<float> points;
+  target.sample_boundary(std::max<std::size_t>(samples, 1), rng, points, impl_->normals);
+  impl_->points.emplace(std::move(points), target.dim());
 }
 
 BoundaryDistance::~BoundaryDistance() = default;
 
-int BoundaryDistance::dim() const { return impl_->dim; }
+int BoundaryDistance::dim() const { return impl_->points->dim(); }
 
 std::size_t BoundaryDistance::nearest(const float* point) const {
-  std::uint32_t nearest = 0;
-  float d2 = 0.0f;
-  impl_->index->knnSearch(point, 1, &nearest, &d2);
-  return nearest;
+  return impl_->points->nearest(point).index;
 }
 
-const float* BoundaryDistance::point(std::size_t i) const {
-  return &impl_->points[i * static_cast<std::size_t>(impl_->dim)];
-}
+const float* BoundaryDistance::point(std::size_t i) const { return impl_->points->point(i); }
 
 const float* BoundaryDistance::normal(std::size_t i) const {
-  return &impl_->normals[i * static_cast<std::size_t>(impl_->dim)];
+  return &impl_->normals[i * static_cast<std::size_t>(dim())];
 }
 
 double BoundaryDistance::operator()(const float* point) const {
-  std::uint32_t nearest = 0;
-  float d2 = 0.0f;
-  impl_->index->knnSearch(point, 1, &nearest, &d2);
-  return std::sqrt(static_cast<double>(d2));
+  return std::sqrt(static_cast<double>(impl_->points->nearest(point).squared_distance));
 }
 
 std::vector<Ball> cover_with_balls(const Target& target, const BoundaryDistance& distance,

@@ -108,7 +108,8 @@ assert open(d + "/render.png", "rb").read(4) == b"\x89PNG"
 PY
 then ok; else bad "convert: an OpenSCAD model is not its own two primitives"; fi
 # A picture: a crisp 2D program of circles and squares, drawn over the picture.
-if "$bin" convert "$src/tests/data/glyphs/DejaVuSans-Bold_U0050_P.png" -o "$tmp/cvpic" --threads 2 -q &&
+# (run from its parent, with a relative output folder)
+if (cd "$tmp" && "$bin" convert "$src/tests/data/glyphs/DejaVuSans-Bold_U0050_P.png" -o cvpic --threads 2 -q) &&
     python3 - "$tmp/cvpic" <<'PY'
 import json, sys
 d = sys.argv[1]

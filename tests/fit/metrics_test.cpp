@@ -1,6 +1,6 @@
 // Metrics against analytic balls, whose MSE, IoU, Chamfer and Hausdorff distances are known in
 // closed form (or by a one-dimensional integral), and against a tree file as its own target.
-#include "fuzzycsg/fit/metrics.hpp"
+#include "fuzzycsg/target/metrics.hpp"
 
 #include <gtest/gtest.h>
 

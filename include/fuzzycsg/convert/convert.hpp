@@ -36,7 +36,7 @@
 #include "fuzzycsg/core/transform.hpp"
 #include "fuzzycsg/core/tree.hpp"
 #include "fuzzycsg/core/triangle_mesh.hpp"
-#include "fuzzycsg/fit/metrics.hpp"
+#include "fuzzycsg/target/metrics.hpp"
 
 namespace fuzzycsg::convert {
 

@@ -4,7 +4,6 @@
 //   init.hpp          starting points that look at the target, and re-seeding.
 //   types.hpp         the search over the types of unified operators.
 //   prune.hpp         prune: redundant nodes removed after snapping.
-//   metrics.hpp       measure: MSE, IoU, Chamfer and Hausdorff distances against a target.
 //   report.hpp        report.json and the checkpoint a fit resumes from.
 //   option_names.hpp  the names of the settings chosen from a list.
 //   plot.hpp          the loss curve and occupancy pictures.
@@ -31,8 +30,8 @@
 
 #include "fuzzycsg/core/builders.hpp"
 #include "fuzzycsg/core/tree.hpp"
-#include "fuzzycsg/fit/metrics.hpp"
 #include "fuzzycsg/fit/prune.hpp"
+#include "fuzzycsg/target/metrics.hpp"
 #include "fuzzycsg/target/target.hpp"
 
 namespace fuzzycsg {

@@ -6,6 +6,9 @@
 //                             mesh is closed, manifold and consistently oriented.
 //   picture.hpp               read_picture: pictures as binary masks (stb_image, Netpbm).
 //   signed_distance_grid.hpp  exact signed distance fields of masks.
+//   metrics.hpp               measure: MSE, IoU, Chamfer and Hausdorff distances of a tree
+//                             against a target (what every engine reports).
+//   nearest.hpp               NearestPoints: the nearest of a set of points (k-d tree).
 //
 // Shapes to fit: a crisp occupancy function on the normalised domain [-1, 1]^dim, and a way to
 // draw points on its boundary. Inverse CSG (fuzzycsg/fit) samples its training points from here.

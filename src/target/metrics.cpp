@@ -1,6 +1,6 @@
 // How well a tree reproduces its target: occupancy MSE and IoU on uniform points, and the
 // Chamfer and Hausdorff distances between the tree's 0.5 level set and the target's boundary.
-#include "fuzzycsg/fit/metrics.hpp"
+#include "fuzzycsg/target/metrics.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "fit/point_cloud.hpp"
 #include "fuzzycsg/core/error.hpp"
 #include "fuzzycsg/core/limits.hpp"
 #include "fuzzycsg/eval/evaluator.hpp"
+#include "fuzzycsg/target/nearest.hpp"
 
 namespace fuzzycsg {
 
@@ -37,9 +37,6 @@ std::vector<float> uniform_cube(int dim, std::size_t n, Rng& rng) {
   return p;
 }
 
-using fit_detail::Cloud;
-using fit_detail::KdTree;
-
 // Over `queries`, the distance to the nearest of `points`: its mean and its largest value.
 struct NearestDistances {
   double mean = 0.0;
@@ -49,18 +46,15 @@ struct NearestDistances {
 NearestDistances nearest_distances(const std::vector<float>& queries,
                                    const std::vector<float>& points, std::size_t dim,
                                    tbb::task_arena& arena) {
-  const Cloud cloud{points, dim};
-  const KdTree index(static_cast<int>(dim), cloud);
+  const NearestPoints index(points, static_cast<int>(dim));
   const std::size_t n = queries.size() / dim;
   std::vector<NearestDistances> partial((n + kQueryChunk - 1) / kQueryChunk);
   arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, partial.size(), [&](std::size_t c) {
       double sum = 0.0, largest = 0.0;
       for (std::size_t i = c * kQueryChunk; i < std::min(n, (c + 1) * kQueryChunk); ++i) {
-        std::uint32_t nearest = 0;
-        float d2 = 0.0f;
-        index.knnSearch(&queries[i * dim], 1, &nearest, &d2);
-        const double d = std::sqrt(static_cast<double>(d2));
+        const double d =
+            std::sqrt(static_cast<double>(index.nearest(&queries[i * dim]).squared_distance));
         sum += d;
         largest = std::max(largest, d);
       }
