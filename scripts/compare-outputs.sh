@@ -50,7 +50,7 @@ demo-gradient demo --gradient --resolution 16
 convert-hole convert $data/meshes/cad/cgal_hole.off -o OUT/conv --seed 3 --threads 2 -q
 convert-csg convert $data/scad/Old/example004.openscad.csg -o OUT/conv --threads 2 -q
 convert-P convert $data/glyphs/DejaVuSans-Bold_U0050_P.png -o OUT/conv --threads 2 -q
-convert-obj convert $data/meshes/cad/cgal_couplingdown.obj -o OUT/conv --threads 2 -q --restarts 1 --resolution 48 --refine-steps 50
+convert-obj convert $data/meshes/cad/cgal_couplingdown.obj -o OUT/conv --threads 2 -q --restarts 1 --resolution 48 --refine-steps 50 --no-tidy
 CMDS
 }
 

@@ -135,10 +135,12 @@ def test_convert_from_arrays_gives_the_programs_tree(tmp_path):
     tree = fuzzycsg.Tree.from_json(PROGRAM)
     path = tmp_path / "part.obj"
     vertices, triangles = fuzzycsg.mesh(tree, path, resolution=40)
-    r = fuzzycsg.convert(vertices, triangles, name="part", threads=2, seed=3, time_limit=120)
+    r = fuzzycsg.convert(vertices, triangles, name="part", threads=2, seed=3, time_limit=120,
+                         restarts=1, refine_steps=50)
     out = tmp_path / "out"
     subprocess.run([os.environ["FUZZYCSG_PROGRAM"], "convert", str(path), "-o", str(out),
-                    "--threads", "2", "--seed", "3", "--time-limit", "120", "-q"], check=True)
+                    "--threads", "2", "--seed", "3", "--time-limit", "120", "--restarts", "1",
+                    "--refine-steps", "50", "-q"], check=True)
     from_file = fuzzycsg.Tree.read(str(out / "tree.json"))
     assert r.primitives >= 2 and r.metrics["iou"] > 0.9, (r.primitives, r.metrics)
     assert r.tree.names == from_file.names
